@@ -1,0 +1,145 @@
+#pragma once
+/// \file common.hpp
+/// Pieces shared by the Gaussian filters: the step result, input checks, and the Kalman update tail
+/// (gain, posterior, predictive log-likelihood) with missing-row handling and no per-step allocation.
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "nlosloc/core/cholesky.hpp"
+#include "nlosloc/core/gaussian.hpp"
+#include "nlosloc/core/types.hpp"
+
+namespace nlosloc {
+
+/// What one filter update reports.
+struct StepResult {
+  /// log p(y_t | y_1:t-1, s) under the filter's Gaussian predictive N(y; z_hat, S) over the rows used
+  /// (Huerta (III.2) weights particles with it). 0 when no row was used.
+  double log_likelihood = 0.0;
+  int rows_used = 0;                               ///< rows that were not NaN
+  CholeskyStatus status = CholeskyStatus::kOk;     ///< worst factorisation outcome of the step
+  double jitter = 0.0;                             ///< diagonal added by the Cholesky fallback, if any
+};
+
+namespace detail {
+
+/// A <- (A + A^T)/2 in place, without a temporary.
+template <class M>
+void symmetrize(M& A) {
+  for (Eigen::Index j = 0; j < A.cols(); ++j)
+    for (Eigen::Index i = j + 1; i < A.rows(); ++i) A(i, j) = A(j, i) = 0.5 * (A(i, j) + A(j, i));
+}
+
+/// Factorises A (symmetrised in place) into llt; on failure retries with a diagonal jitter
+/// eps * mean|diag| for eps = 1e-12, 1e-10, 1e-8 (documented fallback of core/cholesky.hpp). A keeps the
+/// jitter that was used. No allocation when llt was sized for A.
+template <class LLT, class M>
+CholeskyStatus factor_inplace(LLT& llt, M& A, double* jitter) {
+  *jitter = 0.0;
+  if (!A.allFinite()) return CholeskyStatus::kFailed;
+  symmetrize(A);
+  llt.compute(A);
+  if (llt.info() == Eigen::Success) return CholeskyStatus::kOk;
+  const double scale = std::max(A.diagonal().cwiseAbs().mean(), 1e-300);
+  double added = 0.0;
+  for (double eps : {1e-12, 1e-10, 1e-8}) {
+    A.diagonal().array() += eps * scale - added;
+    added = eps * scale;
+    llt.compute(A);
+    if (llt.info() == Eigen::Success) {
+      *jitter = added;
+      return CholeskyStatus::kJittered;
+    }
+  }
+  return CholeskyStatus::kFailed;
+}
+
+inline CholeskyStatus worse(CholeskyStatus a, CholeskyStatus b) {
+  return static_cast<int>(a) > static_cast<int>(b) ? a : b;
+}
+
+/// Throws unless y has m entries, each finite or NaN (missing).
+template <class D>
+void check_measurement(const Eigen::MatrixBase<D>& y, Eigen::Index m) {
+  ensure_shape(y, m, 1, "y");
+  for (Eigen::Index i = 0; i < y.size(); ++i)
+    if (std::isinf(y[i]))
+      throw_invalid_argument("y: expected finite values, or NaN for a missing row; got inf at row " +
+                             std::to_string(i));
+}
+
+/// Kalman update tail shared by KF, EKF and UKF. Given the predicted measurement z_hat, its covariance S
+/// (including the noise), the cross covariance Pxz and the measurement y, it computes the gain and the
+/// posterior. Rows with NaN in y are neutralised (zero innovation, unit S row/column, zero Pxz column)
+/// so the sizes stay fixed and nothing is allocated. Buffers are sized once by resize().
+template <int N>
+class UpdateTail {
+ public:
+  using MatNm = Eigen::Matrix<double, N, Eigen::Dynamic>;
+
+  void resize(int m) {
+    S.setZero(m, m);
+    Pxz.setZero(N, m);
+    zhat.setZero(m);
+    nu.setZero(m);
+    Kt_.setZero(m, N);
+    w_.setZero(m);
+    llt_ = Eigen::LLT<MatX>(m);
+  }
+
+  /// Applies the update to (x, P) (outputs may alias nothing else). `wrap` turns a raw residual into a
+  /// wrapped one (angles). Returns false (and leaves x, P untouched) when S cannot be factorised.
+  template <class Wrap>
+  bool apply(const VecX& y, Wrap&& wrap, Vec<N>& x, Mat<N, N>& P, StepResult& res) {
+    const Eigen::Index m = y.size();
+    int used = 0;
+    nu = y - zhat;
+    wrap(nu);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      if (std::isnan(y[i])) {  // missing row: skipped for this step
+        nu[i] = 0.0;
+        S.row(i).setZero();
+        S.col(i).setZero();
+        S(i, i) = 1.0;
+        Pxz.col(i).setZero();
+      } else {
+        ++used;
+      }
+    }
+    res.rows_used = used;
+    if (used == 0) {
+      res.log_likelihood = 0.0;
+      return true;
+    }
+    double jit = 0.0;
+    const CholeskyStatus st = factor_inplace(llt_, S, &jit);
+    res.status = worse(res.status, st);
+    res.jitter = std::max(res.jitter, jit);
+    if (st == CholeskyStatus::kFailed) return false;
+    // K^T = S^-1 Pxz^T; x += K nu; P -= K S K^T = Pxz S^-1 Pxz^T.
+    Kt_ = Pxz.transpose();
+    llt_.solveInPlace(Kt_);
+    x.noalias() += Kt_.transpose().lazyProduct(nu);
+    P.noalias() -= Pxz.lazyProduct(Kt_);
+    symmetrize(P);
+    // log N(nu; 0, S) over the used rows; padded rows contribute exactly -0.5 log(2 pi), removed here.
+    w_ = nu;
+    llt_.matrixL().solveInPlace(w_);
+    const double log_det = 2.0 * llt_.matrixLLT().diagonal().array().log().sum();
+    res.log_likelihood = -0.5 * (static_cast<double>(used) * std::log(2.0 * kPi) + log_det + w_.squaredNorm());
+    return true;
+  }
+
+  MatX S;
+  MatNm Pxz;
+  VecX zhat, nu;
+
+ private:
+  MatX Kt_;
+  VecX w_;
+  Eigen::LLT<MatX> llt_;
+};
+
+}  // namespace detail
+}  // namespace nlosloc

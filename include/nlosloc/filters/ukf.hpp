@@ -1,0 +1,224 @@
+#pragma once
+/// \file ukf.hpp
+/// Unscented Kalman filters over a measurement stack, in additive-noise and augmented-noise forms.
+///
+/// Both predict with the exact linear equations of the motion model (every motion model of the library
+/// is linear) and draw the update's sigma points from the predicted (x, P): one Cholesky of P per step.
+/// A textbook UKF that propagates sigma points through f and reuses them in the update gives the same
+/// mean and covariance up to rounding for linear f, but not the same sigma points; FilterPy comparisons
+/// therefore redraw FilterPy's sigmas_f from (x, P) after its predict (tests/python/test_filterpy.py).
+#include "nlosloc/core/sigma_points.hpp"
+#include "nlosloc/filters/filter_base.hpp"
+#include "nlosloc/models/measurement.hpp"
+
+namespace nlosloc {
+
+namespace detail {
+/// Weighted mean of the columns of Z with angle rows averaged through residuals to the centre point,
+/// so a set that straddles +-pi averages correctly.
+template <class Meas>
+void sigma_mean(const Meas& meas, const MatX& Z, const SigmaWeights& w, VecX& zbar, VecX& tmp) {
+  const Eigen::Index K = Z.cols();
+  zbar = w.wm0 * Z.col(0);
+  for (Eigen::Index j = 1; j < K; ++j) zbar += w.wi * Z.col(j);
+  if (!meas.has_angles()) return;
+  for (int i = 0; i < meas.rows(); ++i) {
+    if (!meas.is_angle(i)) continue;
+    double acc = 0.0;
+    for (Eigen::Index j = 1; j < K; ++j) acc += w.wi * wrap_angle(Z(i, j) - Z(i, 0));
+    zbar[i] = wrap_angle(Z(i, 0) + acc);  // sum of weights is 1
+  }
+  (void)tmp;
+}
+}  // namespace detail
+
+/// UKF with additive measurement noise: y = g(x) + n, n with the mean and covariance of each row's
+/// distribution under the current sight (Huerta Table VI per condition; Julier/Wan-van der Merwe UT).
+template <class Motion, class Meas = MeasurementStack>
+class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
+  using Base = FilterBase<Ukf<Motion, Meas>, Motion>;
+  friend Base;
+
+ public:
+  using Base::kDim;
+  static constexpr int kPoints = 2 * kDim + 1;
+
+  Ukf(const Motion& motion, const Meas& meas, const Gaussian<kDim>& initial,
+      const SigmaScheme& scheme = SigmaScheme::scaled(), double t0 = 0.0)
+      : Base(motion, initial, t0), meas_(meas), scheme_(scheme), w_(scheme.weights(kDim)) {
+    NLOSLOC_ENSURE(meas.layout().dim == kDim,
+                   "measurements: layout dimension " + std::to_string(meas.layout().dim) +
+                       " does not match the motion model's state size " + std::to_string(kDim));
+    meas.check_ready();
+    const int m = meas.rows();
+    tail_.resize(m);
+    Z_.setZero(m, kPoints);
+    nmean_.setZero(m);
+    R_.setZero(m, m);
+    y_.setZero(m);
+    tmp_.setZero(m);
+    los_.setZero(meas.num_anchors());
+  }
+
+  const Meas& measurements() const { return meas_; }
+  const SigmaScheme& scheme() const { return scheme_; }
+  const SigmaWeights& weights() const { return w_; }
+
+  /// Unscented update (Huerta Table VI, one sight condition; Wan and van der Merwe 2000).
+  StepResult update(const Eigen::Ref<const VecX>& y, const VecXi* sight = nullptr) {
+    precheck(y, sight);
+    const VecXi& s = sight ? *sight : los_;
+    y_ = y;
+    StepResult res;
+    Mat<kDim, kDim> L;
+    Mat<kDim, kDim> Pc = this->P_;
+    const CholeskyStatus st = detail::factor_inplace(llt_, Pc, &res.jitter);
+    res.status = st;
+    if (st == CholeskyStatus::kFailed) Base::fail("Ukf.update: P");
+    L = llt_.matrixL();
+    sigma_points(this->x_, L, w_.gamma, X_);  // Huerta eq. (49)
+    for (int j = 0; j < kPoints; ++j) {
+      auto zj = Z_.col(j);
+      meas_.predict(X_.col(j), this->t_, zj);
+    }
+    auto& t = tail_;
+    detail::sigma_mean(meas_, Z_, w_, t.zhat, tmp_);  // eq. (51)
+    meas_.noise_moments(this->x_, s, nmean_, R_);
+    // Deviations, weighted covariances (eq. 51) plus the additive noise.
+    for (int j = 0; j < kPoints; ++j) {
+      Z_.col(j) -= t.zhat;
+      X_.col(j) -= this->x_;
+    }
+    meas_.wrap_residual_cols(Z_);
+    t.S = R_;
+    t.Pxz.setZero();
+    for (int j = 0; j < kPoints; ++j) {
+      const double wc = j == 0 ? w_.wc0 : w_.wi;
+      t.S.noalias() += (wc * Z_.col(j)).lazyProduct(Z_.col(j).transpose());
+      t.Pxz.noalias() += (wc * X_.col(j)).lazyProduct(Z_.col(j).transpose());
+    }
+    t.zhat += nmean_;
+    if (!t.apply(y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
+      Base::fail("Ukf.update: S");
+    return res;
+  }
+  StepResult update(const Eigen::Ref<const VecX>& y, const VecXi& sight) { return update(y, &sight); }
+
+ private:
+  void precheck(const Eigen::Ref<const VecX>& y, const VecXi* sight) const {
+    detail::check_measurement(y, meas_.rows());
+    if (sight) meas_.check_sight(*sight);
+  }
+  Meas meas_;
+  SigmaScheme scheme_;
+  SigmaWeights w_;
+  Eigen::LLT<Mat<kDim, kDim>> llt_;
+  Mat<kDim, kPoints> X_;
+  MatX Z_, R_;
+  VecX nmean_, y_, tmp_;
+  VecXi los_;
+  detail::UpdateTail<kDim> tail_;
+};
+
+/// UKF with the measurement noise in the sigma points: the state is augmented with one standard normal
+/// per noise input, mapped through each distribution's quantile (Huerta Sec. V-A; Grisales eq. 29), so
+/// non-Gaussian (Rayleigh, GEV, ...) and state-dependent noise (two-way ranging) enter exactly.
+template <class Motion, class Meas = MeasurementStack>
+class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
+  using Base = FilterBase<UkfAugmented<Motion, Meas>, Motion>;
+  friend Base;
+
+ public:
+  using Base::kDim;
+
+  UkfAugmented(const Motion& motion, const Meas& meas, const Gaussian<kDim>& initial,
+               const SigmaScheme& scheme = SigmaScheme::scaled(), double t0 = 0.0)
+      : Base(motion, initial, t0), meas_(meas), scheme_(scheme) {
+    NLOSLOC_ENSURE(meas.layout().dim == kDim,
+                   "measurements: layout dimension " + std::to_string(meas.layout().dim) +
+                       " does not match the motion model's state size " + std::to_string(kDim));
+    meas.check_ready();
+    q_ = meas.noise_dim();
+    w_ = scheme.weights(kDim + q_);  // L_a = n + q (Huerta eq. 49)
+    const int m = meas.rows();
+    const int K = 2 * (kDim + q_) + 1;
+    tail_.resize(m);
+    Z_.setZero(m, K);
+    u_.setZero(q_);
+    y_.setZero(m);
+    tmp_.setZero(m);
+    los_.setZero(meas.num_anchors());
+  }
+
+  const Meas& measurements() const { return meas_; }
+  const SigmaScheme& scheme() const { return scheme_; }
+  const SigmaWeights& weights() const { return w_; }
+  int augmented_dim() const { return kDim + q_; }
+
+  StepResult update(const Eigen::Ref<const VecX>& y, const VecXi* sight = nullptr) {
+    precheck(y, sight);
+    const VecXi& s = sight ? *sight : los_;
+    y_ = y;
+    StepResult res;
+    Mat<kDim, kDim> Pc = this->P_;
+    const CholeskyStatus st = detail::factor_inplace(llt_, Pc, &res.jitter);
+    res.status = st;
+    if (st == CholeskyStatus::kFailed) Base::fail("UkfAugmented.update: P");
+    const Mat<kDim, kDim> L = llt_.matrixL();
+    const double g = w_.gamma;
+    // Points of blockdiag(P, I_q) around (x, 0): state directions, then noise directions (eq. 49).
+    u_.setZero();
+    auto eval = [&](const Vec<kDim>& x, Eigen::Index col) {
+      auto z = Z_.col(col);
+      meas_.predict_augmented(x, this->t_, u_, s, z);
+    };
+    eval(this->x_, 0);
+    for (int i = 0; i < kDim; ++i) {
+      eval(this->x_ + g * L.col(i), 1 + i);
+      eval(this->x_ - g * L.col(i), 1 + kDim + q_ + i);
+    }
+    for (int k = 0; k < q_; ++k) {
+      u_[k] = g;
+      eval(this->x_, 1 + kDim + k);
+      u_[k] = -g;
+      eval(this->x_, 1 + 2 * kDim + q_ + k);
+      u_[k] = 0.0;
+    }
+    auto& t = tail_;
+    detail::sigma_mean(meas_, Z_, w_, t.zhat, tmp_);  // eq. (51)
+    for (Eigen::Index j = 0; j < Z_.cols(); ++j) Z_.col(j) -= t.zhat;
+    meas_.wrap_residual_cols(Z_);
+    t.S.setZero();
+    t.Pxz.setZero();
+    const int Laug = kDim + q_;
+    for (Eigen::Index j = 0; j < Z_.cols(); ++j) {
+      const double wc = j == 0 ? w_.wc0 : w_.wi;
+      t.S.noalias() += (wc * Z_.col(j)).lazyProduct(Z_.col(j).transpose());
+    }
+    // Only the state directions have x deviations: +-g L(:,i).
+    for (int i = 0; i < kDim; ++i) {
+      t.Pxz.noalias() += (w_.wi * g * L.col(i)).lazyProduct((Z_.col(1 + i) - Z_.col(1 + Laug + i)).transpose());
+    }
+    if (!t.apply(y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
+      Base::fail("UkfAugmented.update: S");
+    return res;
+  }
+  StepResult update(const Eigen::Ref<const VecX>& y, const VecXi& sight) { return update(y, &sight); }
+
+ private:
+  void precheck(const Eigen::Ref<const VecX>& y, const VecXi* sight) const {
+    detail::check_measurement(y, meas_.rows());
+    if (sight) meas_.check_sight(*sight);
+  }
+  Meas meas_;
+  SigmaScheme scheme_;
+  SigmaWeights w_;
+  int q_ = 0;
+  Eigen::LLT<Mat<kDim, kDim>> llt_;
+  MatX Z_;
+  VecX u_, y_, tmp_;
+  VecXi los_;
+  detail::UpdateTail<kDim> tail_;
+};
+
+}  // namespace nlosloc

@@ -1,0 +1,257 @@
+// Motion and measurement models: matrices and predictions by hand, Jacobians against finite differences,
+// noise moments against simulation, and argument checks.
+#include <catch2/catch.hpp>
+
+#include "nlosloc/core/random.hpp"
+#include "nlosloc/models/measurement.hpp"
+#include "nlosloc/models/motion.hpp"
+
+using namespace nlosloc;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
+namespace nn = nlosloc::noise;
+
+template class nlosloc::ConstantVelocity<2>;
+template class nlosloc::ConstantVelocity<3>;
+template class nlosloc::ConstantVelocityClock<2>;
+template class nlosloc::ConstantVelocityClock<3>;
+
+TEST_CASE("constant velocity F and Q (Huerta eqs. 6-7, Ke and Wu eq. 16)", "[models][motion]") {
+  const ConstantVelocity2 rw(0.1, 2.0, VelocityNoise::kRandomWalk);
+  CHECK(rw.F()(0, 2) == 0.1);
+  CHECK(rw.F()(1, 3) == 0.1);
+  CHECK(rw.F()(0, 0) == 1.0);
+  CHECK(rw.F()(2, 0) == 0.0);
+  CHECK_THAT(rw.Q()(2, 2), WithinRel(0.2, 1e-15));  // dt sigma_v^2
+  CHECK(rw.Q()(0, 0) == 0.0);
+  CHECK(rw.Q()(0, 2) == 0.0);
+  const ConstantVelocity2 wa(0.1, 1.0, VelocityNoise::kWhiteAcceleration);
+  // G = [dt^2/2; dt] per axis: Q = [[dt^4/4, dt^3/2], [dt^3/2, dt^2]].
+  CHECK_THAT(wa.Q()(0, 0), WithinRel(2.5e-5, 1e-12));
+  CHECK_THAT(wa.Q()(0, 2), WithinRel(5e-4, 1e-12));
+  CHECK_THAT(wa.Q()(2, 2), WithinRel(1e-2, 1e-12));
+  CHECK(wa.Q()(0, 1) == 0.0);
+  const ConstantVelocity3 cv3(0.5, 1.0);
+  CHECK(cv3.F()(2, 5) == 0.5);
+  CHECK(ConstantVelocity3::layout().velocity == 3);
+  CHECK_THROWS_WITH(ConstantVelocity2(0.0, 1.0), Catch::Contains("dt"));
+  CHECK_THROWS_WITH(ConstantVelocity2(0.1, -1.0), Catch::Contains("sigma2"));
+}
+
+TEST_CASE("constant velocity with clock (Huerta eq. 5)", "[models][motion]") {
+  const ConstantVelocityClock2 m(0.01, 1.0, 1e-2);
+  // state [x, y, tau, vx, vy, taudot]
+  CHECK(m.F()(2, 5) == 0.01);
+  CHECK(m.F()(0, 3) == 0.01);
+  CHECK_THAT(m.Q()(3, 3), WithinRel(0.01, 1e-15));
+  CHECK_THAT(m.Q()(5, 5), WithinRel(1e-4, 1e-15));
+  CHECK(m.Q()(2, 2) == 0.0);
+  const StateLayout l = ConstantVelocityClock2::layout();
+  CHECK(l.clock_bias == 2);
+  CHECK(l.velocity == 3);
+  CHECK(l.clock_drift == 5);
+  CHECK_THROWS_WITH(ConstantVelocityClock2(0.01, 1.0, -1.0), Catch::Contains("sigma_tau2"));
+}
+
+TEST_CASE("two-way clock model (Grisales eqs. 14-15)", "[models][motion]") {
+  const TwoWayClock m(1e-3, 1e-11, 1e-11, 0.1);
+  CHECK(m.F()(4, 2) == 1e-3);
+  CHECK(m.F()(5, 3) == 1e-3);
+  CHECK(m.F()(4, 4) == 1.0);
+  CHECK_THAT(m.Q()(0, 0), WithinRel(1e-22, 1e-12));
+  CHECK_THAT(m.Q()(2, 2), WithinRel(0.01, 1e-12));
+  CHECK(m.Q()(4, 4) == 0.0);
+  CHECK_THROWS_WITH(TwoWayClock(0.0, 1, 1, 1), Catch::Contains("h"));
+}
+
+namespace {
+std::vector<noise::Distribution> two(double s1, double s2) {
+  return {nn::Normal(0.0, s1), nn::Normal(0.0, s2)};
+}
+
+/// Central finite differences of g against the analytic Jacobian (the property suite of every row type).
+template <int N>
+void check_jacobians(const MeasurementStack& st, const Vec<N>& x, double t, double rel_step = 1e-6) {
+  const int m = st.rows();
+  Eigen::Matrix<double, Eigen::Dynamic, N> J(m, N), Jn(m, N);
+  st.jacobian(x, t, J);
+  VecX yp(m), ym(m);
+  for (int k = 0; k < N; ++k) {
+    const double h = rel_step * std::max(1.0, std::abs(x[k]));
+    Vec<N> xp = x, xm = x;
+    xp[k] += h;
+    xm[k] -= h;
+    st.predict(xp, t, yp);
+    st.predict(xm, t, ym);
+    VecX d = yp - ym;
+    st.wrap_residual(d);
+    Jn.col(k) = d / (2 * h);
+  }
+  for (int i = 0; i < m; ++i)
+    for (int k = 0; k < N; ++k) {
+      INFO("row " << i << " (" << to_string(st.row(i).kind) << ") col " << k);
+      CHECK_THAT(J(i, k), WithinAbs(Jn(i, k), 1e-6 * std::max(1.0, std::abs(Jn(i, k)))));
+    }
+}
+}  // namespace
+
+TEST_CASE("TOA, TDOA, AOA predictions by hand", "[models][measurement]") {
+  MatX anchors(3, 2);
+  anchors << 0, 0, 6, 0, 0, 8;
+  MeasurementStack st(ConstantVelocity2::layout(), anchors, 2);
+  st.add_toa(0, two(1, 2)).add_tdoa(1, 2, two(1, 2), two(1, 3)).add_aoa(0, two(0.1, 0.2));
+  st.add_aoa_phase(1, kPi / 2, two(0.1, 0.2));
+  Vec<4> x(3, 4, 1, 1);
+  VecX y(4);
+  st.predict(x, 0.0, y);
+  CHECK_THAT(y[0], WithinRel(5.0, 1e-15));                              // ||(3,4)||
+  CHECK_THAT(y[1], WithinRel(5.0 - 5.0, 1e-15));                        // ||(-3,4)|| - ||(3,-4)||
+  CHECK_THAT(y[2], WithinRel(std::atan2(4.0, 3.0), 1e-15));
+  CHECK_THAT(y[3], WithinRel(kPi * std::sin(std::atan2(4.0, -3.0) - kPi / 2), 1e-14));
+  CHECK(st.noise_dim() == 5);  // 1 + 2 + 1 + 1
+  CHECK(st.has_angles());
+  // Noise moments under sight (1, 0, 1): TOA NLOS var 4; TDOA n_1 - n_2 with anchor 1 LOS, anchor 2 NLOS.
+  VecXi s(3);
+  s << 1, 0, 1;
+  VecX mean(4);
+  MatX R(4, 4);
+  st.noise_moments(x, s, mean, R);
+  CHECK(R(0, 0) == 4.0);
+  CHECK_THAT(R(1, 1), WithinRel(1.0 + 9.0, 1e-15));
+  CHECK_THAT(R(2, 2), WithinRel(0.04, 1e-15));
+  CHECK(R(0, 1) == 0.0);
+  CHECK(mean.norm() == 0.0);
+}
+
+TEST_CASE("angle residuals wrap", "[models][measurement]") {
+  MatX anchors(1, 2);
+  anchors << 0, 0;
+  MeasurementStack st(ConstantVelocity2::layout(), anchors, 1);
+  st.add_toa(0, {nn::Normal(0, 1)}).add_aoa(0, {nn::Normal(0, 0.1)});
+  VecX r(2);
+  r << 2 * kPi + 0.5, 2 * kPi - 0.1;
+  st.wrap_residual(r);
+  CHECK_THAT(r[0], WithinRel(2 * kPi + 0.5, 1e-15));  // TOA untouched
+  CHECK_THAT(r[1], WithinAbs(-0.1, 1e-12));
+}
+
+TEST_CASE("Jacobians match finite differences for every row type", "[models][measurement][jacobian]") {
+  MatX a2(4, 2);
+  a2 << 0, 0, 100, 10, 30, 120, -50, 60;
+  {
+    MeasurementStack st(ConstantVelocity2::layout(), a2, 2);
+    st.add_toa(0, two(1, 2)).add_tdoa(1, 3, two(1, 2), two(1, 2)).add_aoa(2, two(0.1, 0.2));
+    st.add_aoa_phase(3, 0.3, two(0.1, 0.2));
+    VecX h(4);
+    h << 1, -2, 0.5, 3;
+    st.add_linear(h, -1, two(1, 1));
+    check_jacobians<4>(st, Vec<4>(20, 35, 1, -2), 0.0);
+    check_jacobians<4>(st, Vec<4>(-80, 5, 1, -2), 0.0);  // AOA near the +-pi cut of anchor 0
+  }
+  {
+    MeasurementStack st(ConstantVelocityClock2::layout(), a2, 2);
+    for (int b = 0; b < 4; ++b) st.add_rtoa(b, two(1, 2));
+    Vec<6> x;
+    x << 20, 35, 4.5, 1, -2, 0.1;
+    check_jacobians<6>(st, x, 0.0);
+  }
+  {
+    MatX a3(3, 3);
+    a3 << 0, 0, 0, 100, 0, 10, 0, 100, 30;
+    MeasurementStack st(ConstantVelocity3::layout(), a3, 1);
+    for (int b = 0; b < 3; ++b) st.add_toa(b, {nn::Normal(0, 1)});
+    st.add_tdoa(0, 2, {nn::Normal(0, 1)}, {nn::Normal(0, 1)});
+    Vec<6> x;
+    x << 10, 20, 5, 1, 1, 1;
+    check_jacobians<6>(st, x, 0.0);
+  }
+  {
+    MeasurementStack st(TwoWayClock::layout(), a2, 2);
+    for (int b = 0; b < 4; ++b) st.add_twr(b, b, 5e-6, 1e-6, 0.2e-9, {std::nullopt, nn::Normal(0.35e-9, 0.07e-9)});
+    Vec<6> x;
+    x << 1 - 1e-5, 500e-9, 0.5, -0.2, 20, 35;
+    check_jacobians<6>(st, x, 0.123, 1e-7);
+  }
+}
+
+TEST_CASE("two-way ranging: eqs. (17)-(20) by hand and exact noise moments", "[models][measurement][twr]") {
+  MatX a(1, 2);
+  a << 30, 40;  // 50 m from the origin
+  MeasurementStack st(TwoWayClock::layout(), a, 2);
+  const double Delta = 5e-6, delta = 1e-6, sm = 0.2e-9;
+  st.add_twr(0, 2, Delta, delta, sm, {std::nullopt, nn::Normal(8.5e-9, 2e-9)});
+  REQUIRE(st.rows() == 2);
+  REQUIRE(st.noise_dim() == 5);
+  Vec<6> x;
+  x << 1 - 1e-5, 500e-9, 0, 0, 0, 0;
+  const double t = 0.01, om = x[0], dc = 50.0 / kSpeedOfLight;
+  VecX y(2);
+  st.predict(x, t, y);
+  CHECK_THAT(y[0], WithinRel(om * (t + 2 * Delta + dc) + 500e-9, 1e-14));      // eq. (22)
+  CHECK_THAT(y[1], WithinRel(dc + 0.5 * delta * (1.0 / om - 1.0), 1e-12));      // eq. (23)
+  // Moments of y - g(x) under NLOS against 400k simulated noises through predict_augmented.
+  VecXi s(1);
+  s << 1;
+  VecX mean(2);
+  MatX R(2, 2);
+  st.noise_moments(x, s, mean, R);
+  Rng rng(5);
+  const int n = 400000;
+  Eigen::Vector2d acc = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d acc2 = Eigen::Matrix2d::Zero();
+  VecX u(5), ya(2);
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < 5; ++j) u[j] = rng.normal();
+    st.predict_augmented(x, t, u, s, ya);
+    const Eigen::Vector2d e = ya - y;
+    acc += e;
+    acc2 += e * e.transpose();
+  }
+  acc /= n;
+  acc2 = acc2 / n - acc * acc.transpose();
+  CHECK_THAT(acc[0], WithinAbs(mean[0], 5 * std::sqrt(R(0, 0) / n)));
+  CHECK_THAT(acc[1], WithinAbs(mean[1], 5 * std::sqrt(R(1, 1) / n)));
+  CHECK_THAT(acc2(0, 0), WithinRel(R(0, 0), 0.02));
+  CHECK_THAT(acc2(1, 1), WithinRel(R(1, 1), 0.02));
+  CHECK_THAT(acc2(0, 1), WithinRel(R(0, 1), 0.02));
+  // Hand values: var tau = om^2 (s^2 + vG) + s^2, var T = vG + 2 s^2 + 2 s^2/om^2.
+  const double s2 = sm * sm, vG = 4e-18;
+  CHECK_THAT(R(0, 0), WithinRel(om * om * (s2 + vG) + s2, 1e-12));
+  CHECK_THAT(R(1, 1), WithinRel(vG + 2 * s2 + 2 * s2 / (om * om), 1e-12));
+}
+
+TEST_CASE("augmented prediction with u = 0 is g(x) plus the noise medians", "[models][measurement]") {
+  MatX a(2, 2);
+  a << 0, 0, 100, 0;
+  MeasurementStack st(ConstantVelocity2::layout(), a, 2);
+  st.add_toa(0, {nn::Normal(0, 1), nn::ShiftedNormal(500, 40)}).add_toa(1, two(1, 1));
+  Vec<4> x(30, 40, 0, 0);
+  VecX y(2), ya(2), u = VecX::Zero(2);
+  VecXi s(2);
+  s << 1, 0;
+  st.predict(x, 0, y);
+  st.predict_augmented(x, 0, u, s, ya);
+  CHECK_THAT(ya[0], WithinRel(y[0] + 500.0, 1e-14));
+  CHECK_THAT(ya[1], WithinRel(y[1], 1e-14));
+}
+
+TEST_CASE("measurement stack rejects bad input with named arguments", "[models][measurement][errors]") {
+  MatX a(2, 2);
+  a << 0, 0, 1, 1;
+  MatX bad = a;
+  bad(1, 0) = NAN;
+  CHECK_THROWS_WITH(MeasurementStack(ConstantVelocity2::layout(), bad, 2), Catch::Contains("anchors"));
+  CHECK_THROWS_WITH(MeasurementStack(ConstantVelocity2::layout(), MatX::Zero(2, 3), 2),
+                    Catch::Contains("anchors: expected shape"));
+  CHECK_THROWS_WITH(MeasurementStack(ConstantVelocity2::layout(), a, 0), Catch::Contains("num_conditions"));
+  MeasurementStack st(ConstantVelocity2::layout(), a, 2);
+  CHECK_THROWS_WITH(st.add_toa(2, two(1, 1)), Catch::Contains("add_toa: anchor"));
+  CHECK_THROWS_WITH(st.add_toa(0, {nn::Normal(0, 1)}), Catch::Contains("add_toa: noise"));
+  CHECK_THROWS_WITH(st.add_rtoa(0, two(1, 1)), Catch::Contains("clock bias"));
+  CHECK_THROWS_WITH(st.add_tdoa(0, 0, two(1, 1), two(1, 1)), Catch::Contains("differ"));
+  CHECK_THROWS_WITH(st.add_twr(0, 0, 1e-6, 1e-6, 1e-9, {std::nullopt, std::nullopt}), Catch::Contains("skew"));
+  CHECK(st.rows() == 0);  // rejected calls add nothing
+  VecXi s(2);
+  s << 0, 2;
+  CHECK_THROWS_WITH(st.check_sight(s), Catch::Contains("sight"));
+}
