@@ -31,6 +31,64 @@ void symmetrize(M& A) {
     for (Eigen::Index i = j + 1; i < A.rows(); ++i) A(i, j) = A(j, i) = 0.5 * (A(i, j) + A(j, i));
 }
 
+/// In-place Cholesky-Banachiewicz on the lower triangle of a small dense matrix (the upper triangle is
+/// ignored and left as is). Returns false when a pivot is not positive (A not positive definite).
+/// Hand-written because Eigen's dynamic-size LLT goes through blocked level-3 kernels whose set-up costs
+/// more than the arithmetic at the sizes of a measurement update (m <= ~20).
+template <class M>
+bool small_cholesky_inplace(M& A) {
+  const Eigen::Index n = A.rows();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    double d = A(j, j);
+    for (Eigen::Index k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
+    if (!(d > 0.0)) return false;
+    d = std::sqrt(d);
+    A(j, j) = d;
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      double v = A(i, j);
+      for (Eigen::Index k = 0; k < j; ++k) v -= A(i, k) * A(j, k);
+      A(i, j) = v / d;
+    }
+  }
+  return true;
+}
+
+/// Solves L w = b in place for every column of B (L lower triangular, from small_cholesky_inplace).
+template <class ML, class MB>
+void small_forward_inplace(const ML& L, MB& B) {
+  const Eigen::Index n = L.rows();
+  for (Eigen::Index c = 0; c < B.cols(); ++c)
+    for (Eigen::Index i = 0; i < n; ++i) {
+      double v = B(i, c);
+      for (Eigen::Index k = 0; k < i; ++k) v -= L(i, k) * B(k, c);
+      B(i, c) = v / L(i, i);
+    }
+}
+
+/// Lower Cholesky factor of the state covariance P with the documented fallback (core/cholesky.hpp):
+/// plain, then jitter eps * mean|diag| for eps = 1e-12, 1e-10, 1e-8. L receives the factor.
+template <int N>
+CholeskyStatus factor_state_cov(const Mat<N, N>& P, Mat<N, N>& L, double* jitter) {
+  *jitter = 0.0;
+  if (!P.allFinite()) return CholeskyStatus::kFailed;
+  L = P;
+  if (small_cholesky_inplace(L)) {
+    L.template triangularView<Eigen::StrictlyUpper>().setZero();
+    return CholeskyStatus::kOk;
+  }
+  const double scale = std::max(P.diagonal().cwiseAbs().mean(), 1e-300);
+  for (double eps : {1e-12, 1e-10, 1e-8}) {
+    L = P;
+    L.diagonal().array() += eps * scale;
+    if (small_cholesky_inplace(L)) {
+      L.template triangularView<Eigen::StrictlyUpper>().setZero();
+      *jitter = eps * scale;
+      return CholeskyStatus::kJittered;
+    }
+  }
+  return CholeskyStatus::kFailed;
+}
+
 /// Factorises A (symmetrised in place) into llt; on failure retries with a diagonal jitter
 /// eps * mean|diag| for eps = 1e-12, 1e-10, 1e-8 (documented fallback of core/cholesky.hpp). A keeps the
 /// jitter that was used. No allocation when llt was sized for A.
@@ -85,7 +143,7 @@ class UpdateTail {
     nu.setZero(m);
     Kt_.setZero(m, N);
     w_.setZero(m);
-    llt_ = Eigen::LLT<MatX>(m);
+    L_.setZero(m, m);
   }
 
   /// Applies the update to (x, P) (outputs may alias nothing else). `wrap` turns a raw residual into a
@@ -112,22 +170,45 @@ class UpdateTail {
       res.log_likelihood = 0.0;
       return true;
     }
+    // Cholesky of S with the documented fallback (core/cholesky.hpp): plain, then jitter eps * mean|diag|.
+    symmetrize(S);
+    if (!S.allFinite()) {
+      res.status = CholeskyStatus::kFailed;
+      return false;
+    }
+    CholeskyStatus st = CholeskyStatus::kOk;
     double jit = 0.0;
-    const CholeskyStatus st = factor_inplace(llt_, S, &jit);
+    L_ = S;
+    if (!small_cholesky_inplace(L_)) {
+      const double scale = std::max(S.diagonal().cwiseAbs().mean(), 1e-300);
+      st = CholeskyStatus::kFailed;
+      for (double eps : {1e-12, 1e-10, 1e-8}) {
+        L_ = S;
+        L_.diagonal().array() += eps * scale;
+        if (small_cholesky_inplace(L_)) {
+          st = CholeskyStatus::kJittered;
+          jit = eps * scale;
+          break;
+        }
+      }
+    }
     res.status = worse(res.status, st);
     res.jitter = std::max(res.jitter, jit);
     if (st == CholeskyStatus::kFailed) return false;
     // K^T = S^-1 Pxz^T; x += K nu; P -= K S K^T = Pxz S^-1 Pxz^T.
     Kt_ = Pxz.transpose();
-    llt_.solveInPlace(Kt_);
-    x.noalias() += Kt_.transpose().lazyProduct(nu);
-    P.noalias() -= Pxz.lazyProduct(Kt_);
-    symmetrize(P);
-    // log N(nu; 0, S) over the used rows; padded rows contribute exactly -0.5 log(2 pi), removed here.
+    small_forward_inplace(L_, Kt_);
     w_ = nu;
-    llt_.matrixL().solveInPlace(w_);
-    const double log_det = 2.0 * llt_.matrixLLT().diagonal().array().log().sum();
-    res.log_likelihood = -0.5 * (static_cast<double>(used) * std::log(2.0 * kPi) + log_det + w_.squaredNorm());
+    small_forward_inplace(L_, w_);  // w = L^-1 nu, reused by the log-likelihood
+    // x += Pxz L^-T L^-1 nu = (L^-1 Pxz^T)^T w; P -= (L^-1 Pxz^T)^T (L^-1 Pxz^T).
+    x.noalias() += Kt_.transpose().lazyProduct(w_);
+    P.noalias() -= Kt_.transpose().lazyProduct(Kt_);
+    symmetrize(P);
+    // log N(nu; 0, S) over the used rows; padded rows have unit pivots and zero innovation.
+    double log_det = 0.0;
+    for (Eigen::Index i = 0; i < m; ++i) log_det += std::log(L_(i, i));
+    res.log_likelihood =
+        -0.5 * (static_cast<double>(used) * std::log(2.0 * kPi) + 2.0 * log_det + w_.squaredNorm());
     return true;
   }
 
@@ -136,9 +217,9 @@ class UpdateTail {
   VecX zhat, nu;
 
  private:
-  MatX Kt_;
+  Eigen::Matrix<double, Eigen::Dynamic, N> Kt_;
+  MatX L_;
   VecX w_;
-  Eigen::LLT<MatX> llt_;
 };
 
 }  // namespace detail

@@ -36,6 +36,12 @@ class Ekf : public FilterBase<Ekf<Motion, Meas>, Motion> {
   /// EKF update (Ke and Wu eqs. 17-21 with the noise of the current sight): NaN rows are skipped.
   StepResult update(const Eigen::Ref<const VecX>& y, const VecXi* sight = nullptr) {
     precheck(y, sight);
+    return update_unchecked(y, sight);
+  }
+  StepResult update(const Eigen::Ref<const VecX>& y, const VecXi& sight) { return update(y, &sight); }
+
+ private:
+  StepResult update_unchecked(const Eigen::Ref<const VecX>& y, const VecXi* sight) {
     const VecXi& s = sight ? *sight : los_;
     y_ = y;
     StepResult res;
@@ -51,7 +57,6 @@ class Ekf : public FilterBase<Ekf<Motion, Meas>, Motion> {
       Base::fail("Ekf.update: S");
     return res;
   }
-  StepResult update(const Eigen::Ref<const VecX>& y, const VecXi& sight) { return update(y, &sight); }
 
  private:
   void precheck(const Eigen::Ref<const VecX>& y, const VecXi* sight) const {

@@ -37,7 +37,7 @@ class FilterBase {
     derived().precheck(y, sight);  // reject bad input before touching the state
     predict();
     try {
-      return derived().update(y, sight);
+      return derived().update_unchecked(y, sight);
     } catch (...) {
       x_ = x0;
       P_ = P0;

@@ -33,6 +33,11 @@ class Kf : public FilterBase<Kf<Motion>, Motion> {
   /// Kalman update with y (m; NaN rows missing). `sight` is not used by the KF and must be null.
   StepResult update(const Eigen::Ref<const VecX>& y, const VecXi* sight = nullptr) {
     precheck(y, sight);
+    return update_unchecked(y, sight);
+  }
+
+ private:
+  StepResult update_unchecked(const Eigen::Ref<const VecX>& y, const VecXi* /*sight*/) {
     y_ = y;
     StepResult res;
     auto& t = tail_;

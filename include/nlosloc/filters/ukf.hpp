@@ -53,6 +53,7 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
     const int m = meas.rows();
     tail_.resize(m);
     Z_.setZero(m, kPoints);
+    Zw_.setZero(m, kPoints);
     nmean_.setZero(m);
     R_.setZero(m, m);
     y_.setZero(m);
@@ -67,15 +68,19 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
   /// Unscented update (Huerta Table VI, one sight condition; Wan and van der Merwe 2000).
   StepResult update(const Eigen::Ref<const VecX>& y, const VecXi* sight = nullptr) {
     precheck(y, sight);
+    return update_unchecked(y, sight);
+  }
+  StepResult update(const Eigen::Ref<const VecX>& y, const VecXi& sight) { return update(y, &sight); }
+
+ private:
+  StepResult update_unchecked(const Eigen::Ref<const VecX>& y, const VecXi* sight) {
     const VecXi& s = sight ? *sight : los_;
     y_ = y;
     StepResult res;
     Mat<kDim, kDim> L;
-    Mat<kDim, kDim> Pc = this->P_;
-    const CholeskyStatus st = detail::factor_inplace(llt_, Pc, &res.jitter);
+    const CholeskyStatus st = detail::factor_state_cov(this->P_, L, &res.jitter);
     res.status = st;
     if (st == CholeskyStatus::kFailed) Base::fail("Ukf.update: P");
-    L = llt_.matrixL();
     sigma_points(this->x_, L, w_.gamma, X_);  // Huerta eq. (49)
     for (int j = 0; j < kPoints; ++j) {
       auto zj = Z_.col(j);
@@ -90,19 +95,17 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
       X_.col(j) -= this->x_;
     }
     meas_.wrap_residual_cols(Z_);
+    Zw_ = Z_;  // weighted deviations, so S and Pxz are single products (eq. 51)
+    Zw_.col(0) *= w_.wc0;
+    Zw_.rightCols(kPoints - 1) *= w_.wi;
     t.S = R_;
-    t.Pxz.setZero();
-    for (int j = 0; j < kPoints; ++j) {
-      const double wc = j == 0 ? w_.wc0 : w_.wi;
-      t.S.noalias() += (wc * Z_.col(j)).lazyProduct(Z_.col(j).transpose());
-      t.Pxz.noalias() += (wc * X_.col(j)).lazyProduct(Z_.col(j).transpose());
-    }
+    t.S.noalias() += Zw_.lazyProduct(Z_.transpose());
+    t.Pxz.noalias() = X_.lazyProduct(Zw_.transpose());
     t.zhat += nmean_;
     if (!t.apply(y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
       Base::fail("Ukf.update: S");
     return res;
   }
-  StepResult update(const Eigen::Ref<const VecX>& y, const VecXi& sight) { return update(y, &sight); }
 
  private:
   void precheck(const Eigen::Ref<const VecX>& y, const VecXi* sight) const {
@@ -112,9 +115,8 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
   Meas meas_;
   SigmaScheme scheme_;
   SigmaWeights w_;
-  Eigen::LLT<Mat<kDim, kDim>> llt_;
   Mat<kDim, kPoints> X_;
-  MatX Z_, R_;
+  MatX Z_, Zw_, R_;
   VecX nmean_, y_, tmp_;
   VecXi los_;
   detail::UpdateTail<kDim> tail_;
@@ -144,6 +146,8 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
     const int K = 2 * (kDim + q_) + 1;
     tail_.resize(m);
     Z_.setZero(m, K);
+    Zw_.setZero(m, K);
+    D_.setZero(m, kDim);
     u_.setZero(q_);
     y_.setZero(m);
     tmp_.setZero(m);
@@ -157,14 +161,19 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
 
   StepResult update(const Eigen::Ref<const VecX>& y, const VecXi* sight = nullptr) {
     precheck(y, sight);
+    return update_unchecked(y, sight);
+  }
+  StepResult update(const Eigen::Ref<const VecX>& y, const VecXi& sight) { return update(y, &sight); }
+
+ private:
+  StepResult update_unchecked(const Eigen::Ref<const VecX>& y, const VecXi* sight) {
     const VecXi& s = sight ? *sight : los_;
     y_ = y;
     StepResult res;
-    Mat<kDim, kDim> Pc = this->P_;
-    const CholeskyStatus st = detail::factor_inplace(llt_, Pc, &res.jitter);
+    Mat<kDim, kDim> L;
+    const CholeskyStatus st = detail::factor_state_cov(this->P_, L, &res.jitter);
     res.status = st;
     if (st == CholeskyStatus::kFailed) Base::fail("UkfAugmented.update: P");
-    const Mat<kDim, kDim> L = llt_.matrixL();
     const double g = w_.gamma;
     // Points of blockdiag(P, I_q) around (x, 0): state directions, then noise directions (eq. 49).
     u_.setZero();
@@ -188,22 +197,18 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
     detail::sigma_mean(meas_, Z_, w_, t.zhat, tmp_);  // eq. (51)
     for (Eigen::Index j = 0; j < Z_.cols(); ++j) Z_.col(j) -= t.zhat;
     meas_.wrap_residual_cols(Z_);
-    t.S.setZero();
-    t.Pxz.setZero();
     const int Laug = kDim + q_;
-    for (Eigen::Index j = 0; j < Z_.cols(); ++j) {
-      const double wc = j == 0 ? w_.wc0 : w_.wi;
-      t.S.noalias() += (wc * Z_.col(j)).lazyProduct(Z_.col(j).transpose());
-    }
-    // Only the state directions have x deviations: +-g L(:,i).
-    for (int i = 0; i < kDim; ++i) {
-      t.Pxz.noalias() += (w_.wi * g * L.col(i)).lazyProduct((Z_.col(1 + i) - Z_.col(1 + Laug + i)).transpose());
-    }
+    Zw_ = Z_;
+    Zw_.col(0) *= w_.wc0;
+    Zw_.rightCols(Z_.cols() - 1) *= w_.wi;
+    t.S.noalias() = Zw_.lazyProduct(Z_.transpose());  // eq. (51), noise inside the points
+    // Only the state directions have x deviations, +-g L(:,i): Pxz = sum_i wi g L(:,i) (Z+i - Z-i)^T.
+    for (int i = 0; i < kDim; ++i) D_.col(i) = Z_.col(1 + i) - Z_.col(1 + Laug + i);
+    t.Pxz.noalias() = (w_.wi * g) * L.lazyProduct(D_.transpose());
     if (!t.apply(y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
       Base::fail("UkfAugmented.update: S");
     return res;
   }
-  StepResult update(const Eigen::Ref<const VecX>& y, const VecXi& sight) { return update(y, &sight); }
 
  private:
   void precheck(const Eigen::Ref<const VecX>& y, const VecXi* sight) const {
@@ -214,8 +219,8 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
   SigmaScheme scheme_;
   SigmaWeights w_;
   int q_ = 0;
-  Eigen::LLT<Mat<kDim, kDim>> llt_;
-  MatX Z_;
+  MatX Z_, Zw_;
+  Eigen::Matrix<double, Eigen::Dynamic, kDim> D_;
   VecX u_, y_, tmp_;
   VecXi los_;
   detail::UpdateTail<kDim> tail_;

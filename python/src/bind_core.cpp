@@ -1,0 +1,111 @@
+/// \file bind_core.cpp
+/// nlosloc.core: Rng, sigma-point schemes, Cholesky fallback, log-sum-exp, angle wrapping, errors.
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include "bind.hpp"
+#include "nlosloc/core/cholesky.hpp"
+#include "nlosloc/core/logsumexp.hpp"
+#include "nlosloc/core/random.hpp"
+#include "nlosloc/core/sigma_points.hpp"
+
+namespace py = pybind11;
+using namespace nlosloc;
+
+void bind_core(py::module_& m) {
+  static py::exception<NumericalError> numerical_error(m, "NumericalError", PyExc_RuntimeError);
+  numerical_error.doc() =
+      "Raised when a step cannot be completed numerically (a covariance that is not positive definite "
+      "even with the Cholesky fallback). The filter keeps the belief it had before the call.";
+
+  py::class_<Rng>(m, "Rng", "Seeded xoshiro256++ generator; every random draw of nlosloc goes through one.")
+      .def(py::init<std::uint64_t, std::uint64_t>(), py::arg("seed") = 0, py::arg("stream") = 0,
+           "Generator for `seed`; `stream` selects an independent sequence (e.g. a Monte Carlo run).")
+      .def("uniform", &Rng::uniform, "Uniform draw in the open interval (0, 1).")
+      .def("normal", py::overload_cast<>(&Rng::normal), "Standard normal draw.")
+      .def(
+          "normals",
+          [](Rng& r, py::ssize_t n) {
+            if (n < 0) throw std::invalid_argument("n: expected >= 0");
+            py::array_t<double> out(n);
+            auto v = out.mutable_unchecked<1>();
+            for (py::ssize_t i = 0; i < n; ++i) v(i) = r.normal();
+            return out;
+          },
+          py::arg("n"), "Array of `n` standard normal draws, shape (n,).")
+      .def("below", &Rng::below, py::arg("n"), "Uniform integer in [0, n).")
+      .def("__call__", [](Rng& r) { return r(); }, "Next raw 64-bit output.");
+
+  py::class_<SigmaWeights>(m, "SigmaWeights", "Weights of a 2n+1 sigma-point set.")
+      .def_readonly("gamma", &SigmaWeights::gamma, "Spread: points are mean +- gamma * L[:, i].")
+      .def_readonly("wm0", &SigmaWeights::wm0, "Mean weight of the centre point.")
+      .def_readonly("wc0", &SigmaWeights::wc0, "Covariance weight of the centre point.")
+      .def_readonly("wi", &SigmaWeights::wi, "Weight of each of the 2n outer points.")
+      .def("__repr__", [](const SigmaWeights& w) {
+        return "SigmaWeights(gamma=" + std::to_string(w.gamma) + ", wm0=" + std::to_string(w.wm0) +
+               ", wc0=" + std::to_string(w.wc0) + ", wi=" + std::to_string(w.wi) + ")";
+      });
+
+  py::class_<SigmaScheme> sch(m, "SigmaScheme", "Sigma-point rule of the unscented transform.");
+  py::enum_<SigmaScheme::Kind>(sch, "Kind")
+      .value("Scaled", SigmaScheme::Kind::kScaled)
+      .value("Julier", SigmaScheme::Kind::kJulier)
+      .value("Cubature", SigmaScheme::Kind::kCubature)
+      .value("Huerta", SigmaScheme::Kind::kHuerta);
+  sch.def_static("scaled", &SigmaScheme::scaled, py::arg("alpha") = 1e-3, py::arg("beta") = 2.0,
+                 py::arg("kappa") = 0.0,
+                 "Scaled UT of Wan and van der Merwe (FilterPy's MerweScaledSigmaPoints); alpha in (0, 1].")
+      .def_static("julier", &SigmaScheme::julier, py::arg("kappa") = 0.0, "Julier and Uhlmann's UT.")
+      .def_static("cubature", &SigmaScheme::cubature, "Spherical-radial cubature rule (2n points).")
+      .def_static("huerta", &SigmaScheme::huerta, py::arg("alpha") = 1.0,
+                  "Huerta et al. 2009 eqs. (49)-(52) (scaled rule with kappa = 0, beta = 2).")
+      .def_readonly("kind", &SigmaScheme::kind)
+      .def_readonly("alpha", &SigmaScheme::alpha)
+      .def_readonly("beta", &SigmaScheme::beta)
+      .def_readonly("kappa", &SigmaScheme::kappa)
+      .def("weights", &SigmaScheme::weights, py::arg("n"), "Weights for an n-dimensional variable.")
+      .def("__repr__", [](const SigmaScheme& s) {
+        return std::string("SigmaScheme(kind=") + to_string(s.kind) + ", alpha=" + std::to_string(s.alpha) +
+               ", beta=" + std::to_string(s.beta) + ", kappa=" + std::to_string(s.kappa) + ")";
+      });
+
+  m.def(
+      "sigma_points",
+      [](const VecX& mean, const MatX& cov, const SigmaScheme& scheme) {
+        detail::ensure_shape(cov, mean.size(), mean.size(), "cov");
+        const SigmaWeights w = scheme.weights(static_cast<int>(mean.size()));
+        MatX L(mean.size(), mean.size());
+        if (robust_cholesky(cov, L) == CholeskyStatus::kFailed)
+          throw std::invalid_argument("cov: expected a symmetric positive definite matrix");
+        MatX X(mean.size(), 2 * mean.size() + 1);
+        sigma_points(mean, L, w.gamma, X);
+        return MatX(X.transpose());
+      },
+      py::arg("mean"), py::arg("cov"), py::arg("scheme"),
+      "Sigma points of N(mean, cov) as rows, shape (2n+1, n), in the order of FilterPy's "
+      "MerweScaledSigmaPoints: centre, +gamma columns of L, -gamma columns.");
+
+  py::enum_<CholeskyStatus>(m, "CholeskyStatus", "Outcome of a factorisation (see robust_cholesky).")
+      .value("Ok", CholeskyStatus::kOk)
+      .value("Jittered", CholeskyStatus::kJittered)
+      .value("Failed", CholeskyStatus::kFailed);
+
+  m.def(
+      "robust_cholesky",
+      [](const MatX& A) {
+        NLOSLOC_ENSURE(A.rows() == A.cols(), "A: expected a square matrix");
+        MatX L = MatX::Zero(A.rows(), A.cols());
+        double jitter = 0.0;
+        const CholeskyStatus s = robust_cholesky(A, L, &jitter);
+        return py::make_tuple(L, s, jitter);
+      },
+      py::arg("A"),
+      "Lower Cholesky factor with the documented fallback: returns (L, status, jitter). A plain LLT of "
+      "(A + A^T)/2 first; on failure retries with eps * mean(diag) added, eps = 1e-12, 1e-10, 1e-8; "
+      "status Failed when all fail (L is then unusable).");
+  m.def("log_sum_exp", [](const VecX& v) { return log_sum_exp(v); }, py::arg("v"),
+        "log(sum(exp(v))) computed stably; -inf for empty input.");
+  m.def("wrap_angle", py::vectorize(&wrap_angle), py::arg("a"), "Wraps angles (rad) to (-pi, pi].");
+  m.attr("SPEED_OF_LIGHT") = kSpeedOfLight;
+}

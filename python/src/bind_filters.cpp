@@ -1,0 +1,287 @@
+/// \file bind_filters.cpp
+/// nlosloc.filters: KF, EKF, UKF and augmented UKF. The C++ filters are templates over the motion model;
+/// Python sees one class per filter holding a std::variant over the motion models (type erasure at the
+/// filter level, so nothing virtual runs per sigma point).
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <variant>
+
+#include "bind.hpp"
+#include "nlosloc/filters/ekf.hpp"
+#include "nlosloc/filters/kf.hpp"
+#include "nlosloc/filters/ukf.hpp"
+
+namespace py = pybind11;
+using namespace nlosloc;
+
+namespace {
+using AnyMotion = std::variant<ConstantVelocity2, ConstantVelocity3, ConstantVelocityClock2,
+                               ConstantVelocityClock3, TwoWayClock>;
+
+/// The motion argument: any of the motion classes of nlosloc.models.
+AnyMotion to_motion(const py::object& o) {
+  if (py::isinstance<ConstantVelocity2>(o)) return o.cast<ConstantVelocity2>();
+  if (py::isinstance<ConstantVelocity3>(o)) return o.cast<ConstantVelocity3>();
+  if (py::isinstance<ConstantVelocityClock2>(o)) return o.cast<ConstantVelocityClock2>();
+  if (py::isinstance<ConstantVelocityClock3>(o)) return o.cast<ConstantVelocityClock3>();
+  if (py::isinstance<TwoWayClock>(o)) return o.cast<TwoWayClock>();
+  throw std::invalid_argument(
+      "motion: expected ConstantVelocity2, ConstantVelocity3, ConstantVelocityClock2, ConstantVelocityClock3 "
+      "or TwoWayClock, got " + std::string(py::str(py::type::of(o).attr("__name__"))));
+}
+
+template <int N>
+Gaussian<N> to_gaussian(const VecX& mean, const MatX& cov, const char* mname, const char* cname) {
+  detail::ensure_shape(mean, N, 1, mname);
+  detail::ensure_shape(cov, N, N, cname);
+  return Gaussian<N>(mean, cov);
+}
+
+/// A filter of family F over any motion model in AnyMotion.
+template <template <class> class F>
+class AnyFilter {
+ public:
+  /// `make(motion, initial)` builds the filter for the concrete motion type held by `motion`.
+  template <class Make>
+  AnyFilter(const py::object& motion_obj, const VecX& mean, const MatX& cov, Make&& make)
+      : f_(std::visit(
+            [&](const auto& mo) -> V {
+              using M = std::decay_t<decltype(mo)>;
+              return make(mo, to_gaussian<M::kDim>(mean, cov, "mean", "cov"));
+            },
+            to_motion(motion_obj))) {}
+
+  template <class Fn>
+  decltype(auto) visit(Fn&& fn) {
+    return std::visit(std::forward<Fn>(fn), f_);
+  }
+  template <class Fn>
+  decltype(auto) visit(Fn&& fn) const {
+    return std::visit(std::forward<Fn>(fn), f_);
+  }
+
+ private:
+  using V = std::variant<F<ConstantVelocity2>, F<ConstantVelocity3>, F<ConstantVelocityClock2>,
+                         F<ConstantVelocityClock3>, F<TwoWayClock>>;
+  V f_;
+};
+
+template <class M>
+using KfT = Kf<M>;
+template <class M>
+using EkfT = Ekf<M>;
+template <class M>
+using UkfT = Ukf<M>;
+template <class M>
+using UkfAugT = UkfAugmented<M>;
+
+/// Reads the optional sight argument of step/update: None, or (B,) ints.
+std::optional<VecXi> sight_arg(const py::object& s) {
+  if (s.is_none()) return std::nullopt;
+  return s.cast<VecXi>();
+}
+
+/// Runs T steps over Y (T, m) in one call with the GIL released. `sight`: None, (B,) for every step, or
+/// (T, B). Returns mean (T, n), cov (T, n, n), log_likelihood (T,), rows_used (T,).
+template <class Filter>
+py::dict run_batch(Filter& f, const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
+                                                                  Eigen::RowMajor>>& Y,
+                   const py::object& sight_obj, int m, int B) {
+  constexpr int N = Filter::kDim;
+  detail::ensure_shape(Y, -1, m, "Y");
+  const Eigen::Index T = Y.rows();
+  Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> S;
+  bool per_step = false;
+  const bool have_sight = !sight_obj.is_none();
+  if (have_sight) {
+    const auto arr = py::array_t<int, py::array::c_style | py::array::forcecast>::ensure(sight_obj);
+    if (!arr) throw std::invalid_argument("sight: expected an integer array of shape (B,) or (T, B)");
+    if (arr.ndim() == 1 && arr.shape(0) == B) {
+      S = Eigen::Map<const Eigen::Matrix<int, 1, Eigen::Dynamic>>(arr.data(), B);
+    } else if (arr.ndim() == 2 && arr.shape(0) == T && arr.shape(1) == B) {
+      S = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(arr.data(), T, B);
+      per_step = true;
+    } else {
+      throw std::invalid_argument("sight: expected shape (B,) or (T, B) with B = " + std::to_string(B) +
+                                  ", T = " + std::to_string(T));
+    }
+  }
+  py::array_t<double> means({static_cast<py::ssize_t>(T), static_cast<py::ssize_t>(N)});
+  py::array_t<double> covs({static_cast<py::ssize_t>(T), static_cast<py::ssize_t>(N), static_cast<py::ssize_t>(N)});
+  py::array_t<double> ll(static_cast<py::ssize_t>(T));
+  py::array_t<int> used(static_cast<py::ssize_t>(T));
+  double* pm = means.mutable_data();
+  double* pc = covs.mutable_data();
+  double* pl = ll.mutable_data();
+  int* pu = used.mutable_data();
+  {
+    // Validate all rows before the first step so a bad row cannot leave the filter half-way.
+    for (Eigen::Index k = 0; k < T; ++k)
+      for (Eigen::Index i = 0; i < m; ++i)
+        if (std::isinf(Y(k, i)))
+          throw std::invalid_argument("Y: expected finite values or NaN (missing), got inf at (" +
+                                      std::to_string(k) + ", " + std::to_string(i) + ")");
+    for (Eigen::Index k = 0; have_sight && k < S.rows(); ++k) {
+      const VecXi s = S.row(k).transpose();
+      f.measurements().check_sight(s, "sight");
+    }
+    py::gil_scoped_release release;
+    VecX y(m);
+    VecXi s = have_sight ? VecXi(S.row(0).transpose()) : VecXi::Zero(B);
+    for (Eigen::Index k = 0; k < T; ++k) {
+      y = Y.row(k).transpose();
+      if (per_step) s = S.row(k).transpose();
+      const StepResult r = f.step(y, have_sight ? &s : nullptr);
+      Eigen::Map<Vec<N>>(pm + k * N) = f.mean();
+      Eigen::Map<Eigen::Matrix<double, N, N, Eigen::RowMajor>>(pc + k * N * N) = f.cov();
+      pl[k] = r.log_likelihood;
+      pu[k] = r.rows_used;
+    }
+  }
+  py::dict out;
+  out["mean"] = means;
+  out["cov"] = covs;
+  out["log_likelihood"] = ll;
+  out["rows_used"] = used;
+  return out;
+}
+
+template <template <class> class F, class Cls>
+void common_methods(Cls& c) {
+  using A = AnyFilter<F>;
+  c.def("predict", [](A& a) { a.visit([](auto& f) { f.predict(); }); },
+        "Prediction x = F x, P = F P F^T + Q; time advances by dt.")
+      .def_property_readonly("mean", [](const A& a) { return a.visit([](const auto& f) { return VecX(f.mean()); }); },
+                             "Posterior mean, shape (n,).")
+      .def_property_readonly("cov", [](const A& a) { return a.visit([](const auto& f) { return MatX(f.cov()); }); },
+                             "Posterior covariance, shape (n, n).")
+      .def_property_readonly("time", [](const A& a) { return a.visit([](const auto& f) { return f.time(); }); },
+                             "Time of the belief (s).")
+      .def_property_readonly("dim", [](const A& a) { return a.visit([](const auto& f) { return std::decay_t<decltype(f)>::kDim; }); })
+      .def(
+          "set_belief",
+          [](A& a, const VecX& mean, const MatX& cov, std::optional<double> t) {
+            a.visit([&](auto& f) {
+              constexpr int N = std::decay_t<decltype(f)>::kDim;
+              const Gaussian<N> g = to_gaussian<N>(mean, cov, "mean", "cov");
+              if (t) f.set_belief(g, *t); else f.set_belief(g);
+            });
+          },
+          py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
+          "Replaces the belief (validated: finite mean, symmetric positive definite cov).");
+}
+
+template <template <class> class F, class Cls>
+void measurement_methods(Cls& c) {
+  using A = AnyFilter<F>;
+  c.def(
+       "update",
+       [](A& a, const VecX& y, const py::object& sight) {
+         const auto s = sight_arg(sight);
+         return a.visit([&](auto& f) { return f.update(y, s ? &*s : nullptr); });
+       },
+       py::arg("y"), py::arg("sight") = py::none(),
+       "Update with y (m,) (NaN = missing row) and optional sight (B,) ints (default all LOS). Returns a "
+       "StepResult with the predictive log-likelihood.")
+      .def(
+          "step",
+          [](A& a, const VecX& y, const py::object& sight) {
+            const auto s = sight_arg(sight);
+            return a.visit([&](auto& f) { return f.step(y, s ? &*s : nullptr); });
+          },
+          py::arg("y"), py::arg("sight") = py::none(), "predict() then update(y, sight).")
+      .def(
+          "run",
+          [](A& a, const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>& Y,
+             const py::object& sight) {
+            return a.visit([&](auto& f) {
+              return run_batch(f, Y, sight, f.measurements().rows(), f.measurements().num_anchors());
+            });
+          },
+          py::arg("Y"), py::arg("sight") = py::none(),
+          "Runs step() over the rows of Y (T, m) in one call (GIL released). sight: None, (B,) or (T, B). "
+          "Returns a dict with mean (T, n), cov (T, n, n), log_likelihood (T,), rows_used (T,).")
+      .def_property_readonly("measurements", [](const A& a) {
+        return a.visit([](const auto& f) { return f.measurements(); });
+      });
+}
+}  // namespace
+
+void bind_filters(py::module_& m) {
+  py::class_<StepResult>(m, "StepResult", "What one update reports.")
+      .def_readonly("log_likelihood", &StepResult::log_likelihood,
+                    "log p(y_t | y_1:t-1, s), Gaussian predictive over the rows used (Huerta (III.2)).")
+      .def_readonly("rows_used", &StepResult::rows_used, "Rows that were not NaN.")
+      .def_readonly("status", &StepResult::status, "Worst Cholesky outcome of the step.")
+      .def_readonly("jitter", &StepResult::jitter, "Diagonal added by the Cholesky fallback, if any.")
+      .def("__repr__", [](const StepResult& r) {
+        return "StepResult(log_likelihood=" + std::to_string(r.log_likelihood) +
+               ", rows_used=" + std::to_string(r.rows_used) + ", status=" + to_string(r.status) + ")";
+      });
+
+  {
+    using A = AnyFilter<KfT>;
+    py::class_<A> c(m, "Kf", "Linear Kalman filter y = H x + n, n ~ N(0, R).");
+    c.def(py::init([](const py::object& motion, const MatX& H, const MatX& R, const VecX& mean, const MatX& cov,
+                      double t0) {
+            return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
+              return Kf<std::decay_t<decltype(mo)>>(mo, H, R, g, t0);
+            });
+          }),
+          py::arg("motion"), py::arg("H"), py::arg("R"), py::arg("mean"), py::arg("cov"), py::arg("t0") = 0.0,
+          "motion: any motion model; H (m, n); R (m, m) SPD; initial belief N(mean, cov).");
+    common_methods<KfT>(c);
+    c.def("update", [](A& a, const VecX& y) { return a.visit([&](auto& f) { return f.update(y); }); },
+          py::arg("y"), "Update with y (m,), NaN = missing.")
+        .def("step", [](A& a, const VecX& y) { return a.visit([&](auto& f) { return f.step(y); }); },
+             py::arg("y"), "predict() then update(y).");
+  }
+  {
+    using A = AnyFilter<EkfT>;
+    py::class_<A> c(m, "Ekf", "Extended Kalman filter over a MeasurementStack (noise moments per sight).");
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean, const MatX& cov,
+                      double t0) {
+            return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
+              return Ekf<std::decay_t<decltype(mo)>>(mo, meas, g, t0);
+            });
+          }),
+          py::arg("motion"), py::arg("measurements"), py::arg("mean"), py::arg("cov"), py::arg("t0") = 0.0);
+    common_methods<EkfT>(c);
+    measurement_methods<EkfT>(c);
+  }
+  {
+    using A = AnyFilter<UkfT>;
+    py::class_<A> c(m, "Ukf",
+                    "UKF with additive measurement noise (exact linear prediction; sigma points redrawn from "
+                    "the predicted belief for the update).");
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean, const MatX& cov,
+                      const SigmaScheme& scheme, double t0) {
+            return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
+              return Ukf<std::decay_t<decltype(mo)>>(mo, meas, g, scheme, t0);
+            });
+          }),
+          py::arg("motion"), py::arg("measurements"), py::arg("mean"), py::arg("cov"),
+          py::arg("scheme") = SigmaScheme::scaled(), py::arg("t0") = 0.0);
+    common_methods<UkfT>(c);
+    measurement_methods<UkfT>(c);
+  }
+  {
+    using A = AnyFilter<UkfAugT>;
+    py::class_<A> c(m, "UkfAugmented",
+                    "UKF with the measurement noise in the sigma points through each distribution's quantile "
+                    "map (Huerta Sec. V-A; Grisales eq. 29).");
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean, const MatX& cov,
+                      const SigmaScheme& scheme, double t0) {
+            return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
+              return UkfAugmented<std::decay_t<decltype(mo)>>(mo, meas, g, scheme, t0);
+            });
+          }),
+          py::arg("motion"), py::arg("measurements"), py::arg("mean"), py::arg("cov"),
+          py::arg("scheme") = SigmaScheme::scaled(), py::arg("t0") = 0.0);
+    common_methods<UkfAugT>(c);
+    measurement_methods<UkfAugT>(c);
+  }
+}
