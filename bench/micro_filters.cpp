@@ -63,19 +63,24 @@ const ConstantVelocity2 kMotion(0.1, 1.0, VelocityNoise::kWhiteAcceleration);
 
 void BM_Ukf_CV2_Toa3(benchmark::State& s) {
   run_steps<Ukf<ConstantVelocity2>>(
-      s, [](const MeasurementStack& st, const Gaussian<4>& g) {
+      s,
+      [](const MeasurementStack& st, const Gaussian<4>& g) {
         return Ukf<ConstantVelocity2>(kMotion, st, g, SigmaScheme::scaled(0.5, 2.0, 0.0));
-      }, 1);
+      },
+      1);
 }
 void BM_UkfAugmented_CV2_Toa3_Rayleigh(benchmark::State& s) {
   run_steps<UkfAugmented<ConstantVelocity2>>(
-      s, [](const MeasurementStack& st, const Gaussian<4>& g) {
+      s,
+      [](const MeasurementStack& st, const Gaussian<4>& g) {
         return UkfAugmented<ConstantVelocity2>(kMotion, st, g, SigmaScheme::scaled(0.5, 2.0, 0.0));
-      }, 2);
+      },
+      2);
 }
 void BM_Ekf_CV2_Toa3(benchmark::State& s) {
   run_steps<Ekf<ConstantVelocity2>>(
-      s, [](const MeasurementStack& st, const Gaussian<4>& g) { return Ekf<ConstantVelocity2>(kMotion, st, g); },
+      s,
+      [](const MeasurementStack& st, const Gaussian<4>& g) { return Ekf<ConstantVelocity2>(kMotion, st, g); },
       1);
 }
 void BM_Kf_CV2_Pos3(benchmark::State& s) {

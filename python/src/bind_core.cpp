@@ -35,7 +35,8 @@ void bind_core(py::module_& m) {
           },
           py::arg("n"), "Array of `n` standard normal draws, shape (n,).")
       .def("below", &Rng::below, py::arg("n"), "Uniform integer in [0, n).")
-      .def("__call__", [](Rng& r) { return r(); }, "Next raw 64-bit output.");
+      .def(
+          "__call__", [](Rng& r) { return r(); }, "Next raw 64-bit output.");
 
   py::class_<SigmaWeights>(m, "SigmaWeights", "Weights of a 2n+1 sigma-point set.")
       .def_readonly("gamma", &SigmaWeights::gamma, "Spread: points are mean +- gamma * L[:, i].")
@@ -104,8 +105,9 @@ void bind_core(py::module_& m) {
       "Lower Cholesky factor with the documented fallback: returns (L, status, jitter). A plain LLT of "
       "(A + A^T)/2 first; on failure retries with eps * mean(diag) added, eps = 1e-12, 1e-10, 1e-8; "
       "status Failed when all fail (L is then unusable).");
-  m.def("log_sum_exp", [](const VecX& v) { return log_sum_exp(v); }, py::arg("v"),
-        "log(sum(exp(v))) computed stably; -inf for empty input.");
+  m.def(
+      "log_sum_exp", [](const VecX& v) { return log_sum_exp(v); }, py::arg("v"),
+      "log(sum(exp(v))) computed stably; -inf for empty input.");
   m.def("wrap_angle", py::vectorize(&wrap_angle), py::arg("a"), "Wraps angles (rad) to (-pi, pi].");
   m.attr("SPEED_OF_LIGHT") = kSpeedOfLight;
 }

@@ -30,7 +30,8 @@ AnyMotion to_motion(const py::object& o) {
   if (py::isinstance<TwoWayClock>(o)) return o.cast<TwoWayClock>();
   throw std::invalid_argument(
       "motion: expected ConstantVelocity2, ConstantVelocity3, ConstantVelocityClock2, ConstantVelocityClock3 "
-      "or TwoWayClock, got " + std::string(py::str(py::type::of(o).attr("__name__"))));
+      "or TwoWayClock, got " +
+      std::string(py::str(py::type::of(o).attr("__name__"))));
 }
 
 template <int N>
@@ -87,9 +88,10 @@ std::optional<VecXi> sight_arg(const py::object& s) {
 /// Runs T steps over Y (T, m) in one call with the GIL released. `sight`: None, (B,) for every step, or
 /// (T, B). Returns mean (T, n), cov (T, n, n), log_likelihood (T,), rows_used (T,).
 template <class Filter>
-py::dict run_batch(Filter& f, const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                                                                  Eigen::RowMajor>>& Y,
-                   const py::object& sight_obj, int m, int B) {
+py::dict run_batch(
+    Filter& f,
+    const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>& Y,
+    const py::object& sight_obj, int m, int B) {
   constexpr int N = Filter::kDim;
   detail::ensure_shape(Y, -1, m, "Y");
   const Eigen::Index T = Y.rows();
@@ -102,7 +104,8 @@ py::dict run_batch(Filter& f, const Eigen::Ref<const Eigen::Matrix<double, Eigen
     if (arr.ndim() == 1 && arr.shape(0) == B) {
       S = Eigen::Map<const Eigen::Matrix<int, 1, Eigen::Dynamic>>(arr.data(), B);
     } else if (arr.ndim() == 2 && arr.shape(0) == T && arr.shape(1) == B) {
-      S = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(arr.data(), T, B);
+      S = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(arr.data(), T,
+                                                                                                B);
       per_step = true;
     } else {
       throw std::invalid_argument("sight: expected shape (B,) or (T, B) with B = " + std::to_string(B) +
@@ -110,7 +113,8 @@ py::dict run_batch(Filter& f, const Eigen::Ref<const Eigen::Matrix<double, Eigen
     }
   }
   py::array_t<double> means({static_cast<py::ssize_t>(T), static_cast<py::ssize_t>(N)});
-  py::array_t<double> covs({static_cast<py::ssize_t>(T), static_cast<py::ssize_t>(N), static_cast<py::ssize_t>(N)});
+  py::array_t<double> covs(
+      {static_cast<py::ssize_t>(T), static_cast<py::ssize_t>(N), static_cast<py::ssize_t>(N)});
   py::array_t<double> ll(static_cast<py::ssize_t>(T));
   py::array_t<int> used(static_cast<py::ssize_t>(T));
   double* pm = means.mutable_data();
@@ -152,22 +156,31 @@ py::dict run_batch(Filter& f, const Eigen::Ref<const Eigen::Matrix<double, Eigen
 template <template <class> class F, class Cls>
 void common_methods(Cls& c) {
   using A = AnyFilter<F>;
-  c.def("predict", [](A& a) { a.visit([](auto& f) { f.predict(); }); },
-        "Prediction x = F x, P = F P F^T + Q; time advances by dt.")
-      .def_property_readonly("mean", [](const A& a) { return a.visit([](const auto& f) { return VecX(f.mean()); }); },
-                             "Posterior mean, shape (n,).")
-      .def_property_readonly("cov", [](const A& a) { return a.visit([](const auto& f) { return MatX(f.cov()); }); },
-                             "Posterior covariance, shape (n, n).")
-      .def_property_readonly("time", [](const A& a) { return a.visit([](const auto& f) { return f.time(); }); },
-                             "Time of the belief (s).")
-      .def_property_readonly("dim", [](const A& a) { return a.visit([](const auto& f) { return std::decay_t<decltype(f)>::kDim; }); })
+  c.def(
+       "predict", [](A& a) { a.visit([](auto& f) { f.predict(); }); },
+       "Prediction x = F x, P = F P F^T + Q; time advances by dt.")
+      .def_property_readonly(
+          "mean", [](const A& a) { return a.visit([](const auto& f) { return VecX(f.mean()); }); },
+          "Posterior mean, shape (n,).")
+      .def_property_readonly(
+          "cov", [](const A& a) { return a.visit([](const auto& f) { return MatX(f.cov()); }); },
+          "Posterior covariance, shape (n, n).")
+      .def_property_readonly(
+          "time", [](const A& a) { return a.visit([](const auto& f) { return f.time(); }); },
+          "Time of the belief (s).")
+      .def_property_readonly(
+          "dim",
+          [](const A& a) { return a.visit([](const auto& f) { return std::decay_t<decltype(f)>::kDim; }); })
       .def(
           "set_belief",
           [](A& a, const VecX& mean, const MatX& cov, std::optional<double> t) {
             a.visit([&](auto& f) {
               constexpr int N = std::decay_t<decltype(f)>::kDim;
               const Gaussian<N> g = to_gaussian<N>(mean, cov, "mean", "cov");
-              if (t) f.set_belief(g, *t); else f.set_belief(g);
+              if (t)
+                f.set_belief(g, *t);
+              else
+                f.set_belief(g);
             });
           },
           py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
@@ -195,7 +208,9 @@ void measurement_methods(Cls& c) {
           py::arg("y"), py::arg("sight") = py::none(), "predict() then update(y, sight).")
       .def(
           "run",
-          [](A& a, const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>& Y,
+          [](A& a,
+             const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>&
+                 Y,
              const py::object& sight) {
             return a.visit([&](auto& f) {
               return run_batch(f, Y, sight, f.measurements().rows(), f.measurements().num_anchors());
@@ -204,9 +219,8 @@ void measurement_methods(Cls& c) {
           py::arg("Y"), py::arg("sight") = py::none(),
           "Runs step() over the rows of Y (T, m) in one call (GIL released). sight: None, (B,) or (T, B). "
           "Returns a dict with mean (T, n), cov (T, n, n), log_likelihood (T,), rows_used (T,).")
-      .def_property_readonly("measurements", [](const A& a) {
-        return a.visit([](const auto& f) { return f.measurements(); });
-      });
+      .def_property_readonly(
+          "measurements", [](const A& a) { return a.visit([](const auto& f) { return f.measurements(); }); });
 }
 }  // namespace
 
@@ -225,8 +239,8 @@ void bind_filters(py::module_& m) {
   {
     using A = AnyFilter<KfT>;
     py::class_<A> c(m, "Kf", "Linear Kalman filter y = H x + n, n ~ N(0, R).");
-    c.def(py::init([](const py::object& motion, const MatX& H, const MatX& R, const VecX& mean, const MatX& cov,
-                      double t0) {
+    c.def(py::init([](const py::object& motion, const MatX& H, const MatX& R, const VecX& mean,
+                      const MatX& cov, double t0) {
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return Kf<std::decay_t<decltype(mo)>>(mo, H, R, g, t0);
             });
@@ -234,16 +248,18 @@ void bind_filters(py::module_& m) {
           py::arg("motion"), py::arg("H"), py::arg("R"), py::arg("mean"), py::arg("cov"), py::arg("t0") = 0.0,
           "motion: any motion model; H (m, n); R (m, m) SPD; initial belief N(mean, cov).");
     common_methods<KfT>(c);
-    c.def("update", [](A& a, const VecX& y) { return a.visit([&](auto& f) { return f.update(y); }); },
-          py::arg("y"), "Update with y (m,), NaN = missing.")
-        .def("step", [](A& a, const VecX& y) { return a.visit([&](auto& f) { return f.step(y); }); },
-             py::arg("y"), "predict() then update(y).");
+    c.def(
+         "update", [](A& a, const VecX& y) { return a.visit([&](auto& f) { return f.update(y); }); },
+         py::arg("y"), "Update with y (m,), NaN = missing.")
+        .def(
+            "step", [](A& a, const VecX& y) { return a.visit([&](auto& f) { return f.step(y); }); },
+            py::arg("y"), "predict() then update(y).");
   }
   {
     using A = AnyFilter<EkfT>;
     py::class_<A> c(m, "Ekf", "Extended Kalman filter over a MeasurementStack (noise moments per sight).");
-    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean, const MatX& cov,
-                      double t0) {
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean,
+                      const MatX& cov, double t0) {
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return Ekf<std::decay_t<decltype(mo)>>(mo, meas, g, t0);
             });
@@ -257,8 +273,8 @@ void bind_filters(py::module_& m) {
     py::class_<A> c(m, "Ukf",
                     "UKF with additive measurement noise (exact linear prediction; sigma points redrawn from "
                     "the predicted belief for the update).");
-    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean, const MatX& cov,
-                      const SigmaScheme& scheme, double t0) {
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean,
+                      const MatX& cov, const SigmaScheme& scheme, double t0) {
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return Ukf<std::decay_t<decltype(mo)>>(mo, meas, g, scheme, t0);
             });
@@ -273,8 +289,8 @@ void bind_filters(py::module_& m) {
     py::class_<A> c(m, "UkfAugmented",
                     "UKF with the measurement noise in the sigma points through each distribution's quantile "
                     "map (Huerta Sec. V-A; Grisales eq. 29).");
-    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean, const MatX& cov,
-                      const SigmaScheme& scheme, double t0) {
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean,
+                      const MatX& cov, const SigmaScheme& scheme, double t0) {
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return UkfAugmented<std::decay_t<decltype(mo)>>(mo, meas, g, scheme, t0);
             });

@@ -18,7 +18,8 @@ void motion_common(Cls& c) {
   c.def_property_readonly("dt", &M::dt, "Time step (s).")
       .def_property_readonly("F", &M::F, "Transition matrix, shape (n, n).")
       .def_property_readonly("Q", &M::Q, "Process-noise covariance, shape (n, n).")
-      .def_property_readonly_static("dim", [](py::object) { return M::kDim; }, "State size n.")
+      .def_property_readonly_static(
+          "dim", [](py::object) { return M::kDim; }, "State size n.")
       .def_static("layout", &M::layout, "Where position, velocity and clock sit in the state.");
 }
 template <int D>
@@ -73,8 +74,9 @@ void bind_models(py::module_& m) {
   py::class_<TwoWayClock> tw(m, "TwoWayClock",
                              "Two-way-ranging clock and mobility model, state (omega, phi, vx, vy, x, y) "
                              "(Grisales and Fierens eqs. 14-15).");
-  tw.def(py::init<double, double, double, double>(), py::arg("h"), py::arg("sigma_omega"), py::arg("sigma_phi"),
-         py::arg("sigma_v"), "h > 0: period (s); step standard deviations of skew, offset (s), velocity (m/s).")
+  tw.def(py::init<double, double, double, double>(), py::arg("h"), py::arg("sigma_omega"),
+         py::arg("sigma_phi"), py::arg("sigma_v"),
+         "h > 0: period (s); step standard deviations of skew, offset (s), velocity (m/s).")
       .def_property_readonly("sigma_omega", &TwoWayClock::sigma_omega)
       .def_property_readonly("sigma_phi", &TwoWayClock::sigma_phi)
       .def_property_readonly("sigma_v", &TwoWayClock::sigma_v);

@@ -131,7 +131,7 @@ TEST_CASE("Rng is reproducible and has the right moments", "[core][random]") {
   for (int i = 0; i < 1000; ++i) CHECK(r.below(7) < 7);
 }
 
-TEST_CASE("wrap_angle maps to (-pi, pi]", "[core]") {
+TEST_CASE("wrap_angle maps to the half-open interval from -pi to pi", "[core]") {
   CHECK_THAT(wrap_angle(3 * kPi), WithinAbs(kPi, 1e-12));
   CHECK_THAT(wrap_angle(-kPi), WithinAbs(kPi, 1e-12));
   CHECK_THAT(wrap_angle(0.1 - 2 * kPi), WithinAbs(0.1, 1e-12));

@@ -111,7 +111,8 @@ TEST_CASE("a NaN row is the same as leaving the row out", "[filters][missing]") 
   Gaussian<4> g;
   g.mean << 1000, 1000, 10, 15;
   g.cov = Vec<4>(2500, 2500, 100, 100).asDiagonal();
-  Ukf<ConstantVelocity2> a(motion, full, g, SigmaScheme::scaled(0.5)), b(motion, part, g, SigmaScheme::scaled(0.5));
+  Ukf<ConstantVelocity2> a(motion, full, g, SigmaScheme::scaled(0.5)),
+      b(motion, part, g, SigmaScheme::scaled(0.5));
   Ekf<ConstantVelocity2> c(motion, full, g), d(motion, part, g);
   VecX y3(3), y2(2);
   y3 << 1420, NAN, 6700;
@@ -162,7 +163,8 @@ TEST_CASE("EKF and UKF track a TOA constant-velocity target (seeded)", "[filters
     }
   }
   // 50 m ranges from ~4-8 km with a smooth track: the position RMSE settles near 10-20 m.
-  INFO("rmse ekf " << std::sqrt(se_e / n) << " ukf " << std::sqrt(se_u / n) << " aug " << std::sqrt(se_a / n));
+  INFO("rmse ekf " << std::sqrt(se_e / n) << " ukf " << std::sqrt(se_u / n) << " aug "
+                   << std::sqrt(se_a / n));
   CHECK(std::sqrt(se_e / n) < 25.0);
   CHECK(std::sqrt(se_u / n) < 25.0);
   CHECK(std::abs(std::sqrt(se_u / n) - std::sqrt(se_a / n)) < 1.0);

@@ -104,8 +104,8 @@ TEST_CASE("TOA, TDOA, AOA predictions by hand", "[models][measurement]") {
   Vec<4> x(3, 4, 1, 1);
   VecX y(4);
   st.predict(x, 0.0, y);
-  CHECK_THAT(y[0], WithinRel(5.0, 1e-15));                              // ||(3,4)||
-  CHECK_THAT(y[1], WithinRel(5.0 - 5.0, 1e-15));                        // ||(-3,4)|| - ||(3,-4)||
+  CHECK_THAT(y[0], WithinRel(5.0, 1e-15));        // ||(3,4)||
+  CHECK_THAT(y[1], WithinRel(5.0 - 5.0, 1e-15));  // ||(-3,4)|| - ||(3,-4)||
   CHECK_THAT(y[2], WithinRel(std::atan2(4.0, 3.0), 1e-15));
   CHECK_THAT(y[3], WithinRel(kPi * std::sin(std::atan2(4.0, -3.0) - kPi / 2), 1e-14));
   CHECK(st.noise_dim() == 5);  // 1 + 2 + 1 + 1
@@ -167,7 +167,8 @@ TEST_CASE("Jacobians match finite differences for every row type", "[models][mea
   }
   {
     MeasurementStack st(TwoWayClock::layout(), a2, 2);
-    for (int b = 0; b < 4; ++b) st.add_twr(b, b, 5e-6, 1e-6, 0.2e-9, {std::nullopt, nn::Normal(0.35e-9, 0.07e-9)});
+    for (int b = 0; b < 4; ++b)
+      st.add_twr(b, b, 5e-6, 1e-6, 0.2e-9, {std::nullopt, nn::Normal(0.35e-9, 0.07e-9)});
     Vec<6> x;
     x << 1 - 1e-5, 500e-9, 0.5, -0.2, 20, 35;
     check_jacobians<6>(st, x, 0.123, 1e-7);
@@ -187,8 +188,8 @@ TEST_CASE("two-way ranging: eqs. (17)-(20) by hand and exact noise moments", "[m
   const double t = 0.01, om = x[0], dc = 50.0 / kSpeedOfLight;
   VecX y(2);
   st.predict(x, t, y);
-  CHECK_THAT(y[0], WithinRel(om * (t + 2 * Delta + dc) + 500e-9, 1e-14));      // eq. (22)
-  CHECK_THAT(y[1], WithinRel(dc + 0.5 * delta * (1.0 / om - 1.0), 1e-12));      // eq. (23)
+  CHECK_THAT(y[0], WithinRel(om * (t + 2 * Delta + dc) + 500e-9, 1e-14));   // eq. (22)
+  CHECK_THAT(y[1], WithinRel(dc + 0.5 * delta * (1.0 / om - 1.0), 1e-12));  // eq. (23)
   // Moments of y - g(x) under NLOS against 400k simulated noises through predict_augmented.
   VecXi s(1);
   s << 1;
@@ -249,7 +250,8 @@ TEST_CASE("measurement stack rejects bad input with named arguments", "[models][
   CHECK_THROWS_WITH(st.add_toa(0, {nn::Normal(0, 1)}), Catch::Contains("add_toa: noise"));
   CHECK_THROWS_WITH(st.add_rtoa(0, two(1, 1)), Catch::Contains("clock bias"));
   CHECK_THROWS_WITH(st.add_tdoa(0, 0, two(1, 1), two(1, 1)), Catch::Contains("differ"));
-  CHECK_THROWS_WITH(st.add_twr(0, 0, 1e-6, 1e-6, 1e-9, {std::nullopt, std::nullopt}), Catch::Contains("skew"));
+  CHECK_THROWS_WITH(st.add_twr(0, 0, 1e-6, 1e-6, 1e-9, {std::nullopt, std::nullopt}),
+                    Catch::Contains("skew"));
   CHECK(st.rows() == 0);  // rejected calls add nothing
   VecXi s(2);
   s << 0, 2;

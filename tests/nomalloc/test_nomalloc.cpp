@@ -31,8 +31,8 @@ template <class F>
 void run_without_malloc(F& f, int rows, int anchors) {
   VecX y(rows);
   y.setConstant(3000.0);
-  y[3] = 0.7;              // the AOA row
-  y[rows - 1] = NAN;       // a missing row
+  y[3] = 0.7;         // the AOA row
+  y[rows - 1] = NAN;  // a missing row
   VecXi s = VecXi::Zero(anchors);
   s[1] = 1;
   StepResult r;

@@ -1,10 +1,10 @@
 """The UKF against FilterPy's UnscentedKalmanFilter on the same model (issue #2).
 
 Model: constant velocity (Ke and Wu eq. 16 white acceleration), 3 TOA anchors, 200 steps.
-nlosloc's UKF predicts with the exact linear equations and draws the update's sigma points from the
-predicted (x, P); FilterPy propagates its sigma points through f and reuses them in the update. For a
-linear f the two agree in (x, P) but not in the point sets, so after each FilterPy predict we redraw
-``sigmas_f`` from (x, P) to compare the same algorithm (see filters/ukf.hpp).
+nlosloc's UKF predicts with the exact linear equations and draws the update's sigma points from
+the predicted (x, P); FilterPy propagates its sigma points through f and reuses them in the update.
+For a linear f the two agree in (x, P) but not in the point sets, so after each FilterPy predict we
+redraw ``sigmas_f`` from (x, P) to compare the same algorithm (see filters/ukf.hpp).
 """
 
 import numpy as np
@@ -54,7 +54,9 @@ def test_ukf_matches_filterpy(alpha, beta, kappa):
     def hx(x):
         return np.linalg.norm(x[:2] - ANCHORS, axis=1)
 
-    ref = filterpy_kalman.UnscentedKalmanFilter(dim_x=4, dim_z=3, dt=DT, hx=hx, fx=fx, points=points)
+    ref = filterpy_kalman.UnscentedKalmanFilter(
+        dim_x=4, dim_z=3, dt=DT, hx=hx, fx=fx, points=points
+    )
     ref.x = x0.copy()
     ref.P = P0.copy()
     ref.Q = motion.Q.copy()
@@ -65,7 +67,9 @@ def test_ukf_matches_filterpy(alpha, beta, kappa):
 
     for k in range(len(Y)):
         ref.predict()
-        ref.sigmas_f = points.sigma_points(ref.x, ref.P)  # same point set as nlosloc (module docstring)
+        ref.sigmas_f = points.sigma_points(
+            ref.x, ref.P
+        )  # same point set as nlosloc (module docstring)
         ref.update(Y[k])
         np.testing.assert_allclose(out["mean"][k], ref.x, rtol=1e-9, atol=1e-9)
         np.testing.assert_allclose(out["cov"][k], ref.P, rtol=1e-9, atol=1e-9 * np.abs(ref.P).max())

@@ -1,5 +1,5 @@
-"""Python API of the filters: shapes, missing rows, bad input (ValueError naming the argument) and the
-state left unchanged after a rejected call."""
+"""Python API of the filters: shapes, missing rows, bad input (ValueError naming the argument)
+and the state left unchanged after a rejected call."""
 
 import numpy as np
 import pytest

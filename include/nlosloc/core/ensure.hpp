@@ -25,7 +25,7 @@ namespace detail {
 }  // namespace nlosloc
 
 /// Checks an argument; the message should name the argument and what was expected.
-#define NLOSLOC_ENSURE(cond, msg)                                        \
-  do {                                                                   \
+#define NLOSLOC_ENSURE(cond, msg)                                                     \
+  do {                                                                                \
     if (__builtin_expect(!(cond), 0)) ::nlosloc::detail::throw_invalid_argument(msg); \
   } while (0)

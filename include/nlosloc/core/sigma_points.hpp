@@ -72,7 +72,7 @@ struct SigmaScheme {
       case Kind::kHuerta: {
         const double k = kind == Kind::kHuerta ? 0.0 : kappa;
         const double lambda = alpha * alpha * (nd + k) - nd;  // Wan & van der Merwe; Huerta eq. (52)
-        w.gamma = std::sqrt(nd + lambda);                        // Huerta eq. (49): sqrt(alpha^2 L Q)
+        w.gamma = std::sqrt(nd + lambda);                     // Huerta eq. (49): sqrt(alpha^2 L Q)
         w.wm0 = lambda / (nd + lambda);
         w.wc0 = w.wm0 + 1.0 - alpha * alpha + beta;  // Huerta eq. (52) with beta = 2
         w.wi = 1.0 / (2.0 * (nd + lambda));

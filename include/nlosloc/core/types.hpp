@@ -42,8 +42,8 @@ inline std::string shape_str(Eigen::Index r, Eigen::Index c) {
 template <class D>
 void ensure_shape(const Eigen::DenseBase<D>& m, Eigen::Index rows, Eigen::Index cols, const char* name) {
   if ((rows >= 0 && m.rows() != rows) || (cols >= 0 && m.cols() != cols)) {
-    throw_invalid_argument(std::string(name) + ": expected shape " +
-                           shape_str(rows, cols) + ", got " + shape_str(m.rows(), m.cols()));
+    throw_invalid_argument(std::string(name) + ": expected shape " + shape_str(rows, cols) + ", got " +
+                           shape_str(m.rows(), m.cols()));
   }
 }
 template <class D>

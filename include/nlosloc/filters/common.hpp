@@ -17,9 +17,9 @@ struct StepResult {
   /// log p(y_t | y_1:t-1, s) under the filter's Gaussian predictive N(y; z_hat, S) over the rows used
   /// (Huerta (III.2) weights particles with it). 0 when no row was used.
   double log_likelihood = 0.0;
-  int rows_used = 0;                               ///< rows that were not NaN
-  CholeskyStatus status = CholeskyStatus::kOk;     ///< worst factorisation outcome of the step
-  double jitter = 0.0;                             ///< diagonal added by the Cholesky fallback, if any
+  int rows_used = 0;                            ///< rows that were not NaN
+  CholeskyStatus status = CholeskyStatus::kOk;  ///< worst factorisation outcome of the step
+  double jitter = 0.0;                          ///< diagonal added by the Cholesky fallback, if any
 };
 
 namespace detail {

@@ -53,7 +53,8 @@ class Ekf : public FilterBase<Ekf<Motion, Meas>, Motion> {
     t.Pxz.noalias() = this->P_.lazyProduct(H_.transpose());  // P H^T
     t.S.noalias() = H_.lazyProduct(t.Pxz);                   // H P H^T + R
     t.S += R_;
-    if (!t.apply(y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
+    if (!t.apply(
+            y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
       Base::fail("Ekf.update: S");
     return res;
   }

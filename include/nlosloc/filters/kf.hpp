@@ -41,11 +41,13 @@ class Kf : public FilterBase<Kf<Motion>, Motion> {
     y_ = y;
     StepResult res;
     auto& t = tail_;
-    t.zhat.noalias() = H_.lazyProduct(this->x_);                       // z = H x
-    t.Pxz.noalias() = this->P_.lazyProduct(H_.transpose());            // P H^T
-    t.S.noalias() = H_.lazyProduct(t.Pxz);                             // H P H^T
+    t.zhat.noalias() = H_.lazyProduct(this->x_);             // z = H x
+    t.Pxz.noalias() = this->P_.lazyProduct(H_.transpose());  // P H^T
+    t.S.noalias() = H_.lazyProduct(t.Pxz);                   // H P H^T
     t.S += R_;
-    if (!t.apply(y_, [](VecX&) {}, this->x_, this->P_, res)) Base::fail("Kf.update: S");
+    if (!t.apply(
+            y_, [](VecX&) {}, this->x_, this->P_, res))
+      Base::fail("Kf.update: S");
     return res;
   }
 

@@ -102,7 +102,8 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
     t.S.noalias() += Zw_.lazyProduct(Z_.transpose());
     t.Pxz.noalias() = X_.lazyProduct(Zw_.transpose());
     t.zhat += nmean_;
-    if (!t.apply(y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
+    if (!t.apply(
+            y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
       Base::fail("Ukf.update: S");
     return res;
   }
@@ -205,7 +206,8 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
     // Only the state directions have x deviations, +-g L(:,i): Pxz = sum_i wi g L(:,i) (Z+i - Z-i)^T.
     for (int i = 0; i < kDim; ++i) D_.col(i) = Z_.col(1 + i) - Z_.col(1 + Laug + i);
     t.Pxz.noalias() = (w_.wi * g) * L.lazyProduct(D_.transpose());
-    if (!t.apply(y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
+    if (!t.apply(
+            y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
       Base::fail("UkfAugmented.update: S");
     return res;
   }

@@ -297,14 +297,16 @@ class MeasurementStack {
           const auto& g = w.gamma[static_cast<std::size_t>(sight[r.anchor])];
           const double G = g ? g->from_standard_normal(u[r.input + 4]) : 0.0;
           const double dc = dist(x, r.anchor) / kSpeedOfLight;
-          y[i] = om * (t + r.slot * w.delta_slot + nA + dc + G) + phi + nB;                    // eq. (17)
+          y[i] = om * (t + r.slot * w.delta_slot + nA + dc + G) + phi + nB;                       // eq. (17)
           y[i + 1] = dc + G + 0.5 * w.reply_delay * (1.0 / om - 1.0) + nA + nD + (nB + nC) / om;  // eq. (20)
           break;
         }
         case RowKind::kTwrT: break;
         default:
-          y[i] = g_row(x, t, i) + noise_[ui][static_cast<std::size_t>(r.anchor < 0 ? 0 : sight[r.anchor])]
-                                      .from_standard_normal(u[r.input]);
+          y[i] =
+              g_row(x, t, i) +
+              noise_[ui][static_cast<std::size_t>(r.anchor < 0 ? 0 : sight[r.anchor])].from_standard_normal(
+                  u[r.input]);
       }
     }
   }
@@ -385,11 +387,10 @@ class MeasurementStack {
     const MeasurementRow& r = rows_[static_cast<std::size_t>(i)];
     const int P = layout_.position;
     switch (r.kind) {
-      case RowKind::kToa: return dist(x, r.anchor);                                  // Table I
-      case RowKind::kRtoa: return dist(x, r.anchor) + x[layout_.clock_bias];         // Table I
-      case RowKind::kTdoa: return dist(x, r.anchor) - dist(x, r.anchor2);            // Table I
-      case RowKind::kAoa:
-        return std::atan2(x[P + 1] - anchors_(r.anchor, 1), x[P] - anchors_(r.anchor, 0));
+      case RowKind::kToa: return dist(x, r.anchor);                           // Table I
+      case RowKind::kRtoa: return dist(x, r.anchor) + x[layout_.clock_bias];  // Table I
+      case RowKind::kTdoa: return dist(x, r.anchor) - dist(x, r.anchor2);     // Table I
+      case RowKind::kAoa: return std::atan2(x[P + 1] - anchors_(r.anchor, 1), x[P] - anchors_(r.anchor, 0));
       case RowKind::kAoaPhase:  // psi(theta) of a half-wavelength ULA, H1 choice
         return kPi * std::sin(std::atan2(x[P + 1] - anchors_(r.anchor, 1), x[P] - anchors_(r.anchor, 0)) -
                               r.sector_center);

@@ -10,14 +10,14 @@ namespace nlosloc {
 
 /// Where the pieces of a state vector are; -1 marks an absent piece.
 struct StateLayout {
-  int dim = 0;          ///< total state size
-  int space_dim = 2;    ///< 2-D or 3-D position
-  int position = 0;     ///< index of the first position coordinate
-  int velocity = -1;    ///< index of the first velocity coordinate
-  int clock_bias = -1;  ///< RTOA clock bias tau in light-metres (Huerta eq. 5)
-  int clock_drift = -1; ///< its rate, lm/s
-  int skew = -1;        ///< two-way-ranging clock skew omega (Grisales eq. 12)
-  int offset = -1;      ///< two-way-ranging clock offset phi, s (Grisales eq. 12)
+  int dim = 0;           ///< total state size
+  int space_dim = 2;     ///< 2-D or 3-D position
+  int position = 0;      ///< index of the first position coordinate
+  int velocity = -1;     ///< index of the first velocity coordinate
+  int clock_bias = -1;   ///< RTOA clock bias tau in light-metres (Huerta eq. 5)
+  int clock_drift = -1;  ///< its rate, lm/s
+  int skew = -1;         ///< two-way-ranging clock skew omega (Grisales eq. 12)
+  int offset = -1;       ///< two-way-ranging clock offset phi, s (Grisales eq. 12)
 };
 
 /// Process-noise form of the constant-velocity model.

@@ -1,0 +1,188 @@
+#pragma once
+/// \file k1.hpp
+/// Scenario K1 of reference/scenarios.md: Ke & Wu 2011 (papers/ke-wu2011-qp-ekf.md) Sec. 6.1, fixed
+/// LOS/NLOS, large scale; and the K1 estimators registered so far ("EKF"). Later issues add "proposed"
+/// (QP bias EKF) and "iterated-NLOS-EKF" with one add_estimator line each in register_k1().
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "nlosloc/filters/ekf.hpp"
+#include "nlosloc/models/measurement.hpp"
+#include "nlosloc/models/motion.hpp"
+#include "nlosloc/models/noise.hpp"
+#include "nlosloc/sim/estimators.hpp"
+#include "nlosloc/sim/scenario.hpp"
+
+namespace nlosloc::sim {
+
+/// Parameters of K1; defaults are the paper's (Sec. 6 and 6.1) plus the choices listed by K1::choices().
+struct K1Params {
+  Mat<3, 2> anchors = (Mat<3, 2>() << 0, 0, 8600, 0, 4300, 7500).finished();  ///< Sec. 6, fixed nodes (m)
+  double sigma_los = 50.0;                     ///< Sec. 6: TOA noise n_i ~ N(0, 50^2) (m)
+  double nlos_mean = 513.0;                    ///< Sec. 6.1: NLOS error b_i ~ N(513, 436^2) (m)
+  double nlos_std = 436.0;                     ///< Sec. 6.1
+  Vec<2> start{1000.0, 1000.0};                ///< choice: start position (m)
+  Vec<2> velocity{10.0, 15.0};                 ///< Sec. 6: (10, 15) m/s
+  double accel_var = 1.0;                      ///< Sec. 6: sigma_x^2 = sigma_y^2 = 1 (m/s^2)^2, eq. (16)
+  int steps = 2000;                            ///< Sec. 6: L = 2000 samples
+  double dt = 0.1;                             ///< Sec. 6: Delta t = 0.1 s
+  int discard = 100;                           ///< Sec. 6: first 100 samples left out
+  Vec<4> initial_std{50.0, 50.0, 10.0, 10.0};  ///< choice: initial belief std (m, m, m/s, m/s)
+};
+
+/// K1: three TOA nodes, a mobile on a straight line with white-acceleration noise, 0..3 nodes in NLOS for
+/// the whole run. Cases "3LOS/0NLOS", "2LOS/1NLOS", "1LOS/2NLOS", "0LOS/3NLOS"; the NLOS nodes of the case
+/// with j NLOS nodes are the last j nodes (choice).
+class K1 : public Scenario {
+ public:
+  /// Estimator names of Ke & Wu Table 1 (only "EKF" is registered so far).
+  static constexpr const char* kEkf = "EKF";
+  static constexpr const char* kProposed = "proposed";
+  static constexpr const char* kIterated = "iterated-NLOS-EKF";
+
+  explicit K1(const K1Params& p = K1Params())
+      : p_(p),
+        motion_(p.dt, p.accel_var, VelocityNoise::kWhiteAcceleration),
+        stack_(make_stack(p)),
+        bias_(p.nlos_mean, p.nlos_std),
+        los_(0.0, p.sigma_los) {
+    NLOSLOC_ENSURE(p.steps > p.discard && p.discard >= 0,
+                   "K1Params: expected 0 <= discard < steps, got discard " + std::to_string(p.discard) +
+                       ", steps " + std::to_string(p.steps));
+  }
+
+  std::string name() const override { return "K1"; }
+  std::string description() const override {
+    return "Ke & Wu 2011 Sec. 6.1: 3 TOA nodes, fixed LOS/NLOS per node, NLOS error N(513, 436^2), "
+           "mobile at (10, 15) m/s, L = 2000, dt = 0.1 s";
+  }
+  std::vector<std::string> choices() const override {
+    return {
+        "start position (1000, 1000) m (scenarios.md choice); initial velocity exactly (10, 15) m/s",
+        "truth simulated with the filters' model: eq. (16) white acceleration, variance 1 (m/s^2)^2 per axis",
+        "NLOS nodes of a case with j NLOS nodes: the last j nodes (j = 1: (4300, 7500); j = 2: also (8600, "
+        "0))",
+        "NLOS measurement = d + n + b with n ~ N(0, 50^2) and b ~ N(513, 436^2) drawn every step, not "
+        "truncated at 0 (eq. 1 and Sec. 6.1); the stack's NLOS row noise is their sum N(513, 50^2 + 436^2)",
+        "initial belief: mean = true state at k = 0 + N(0, diag(50^2, 50^2, 10^2, 10^2)), drawn once per run "
+        "and shared by all estimators; covariance diag(50^2, 50^2, 10^2, 10^2)",
+        "first update with y_0 at k = 0 (no prediction before it); 67% / 95% errors pooled over runs and "
+        "samples k >= 100",
+        "EKF: R = 50^2 I (LOS assumed on every node), Q of eq. (16) with variance 1, no adaptive R "
+        "(the paper's Ref. [19] adaptation is not specified)",
+    };
+  }
+  std::vector<std::string> cases() const override {
+    return {"3LOS/0NLOS", "2LOS/1NLOS", "1LOS/2NLOS", "0LOS/3NLOS"};
+  }
+  int steps() const override { return p_.steps; }
+  double dt() const override { return p_.dt; }
+  MatX anchors() const override { return p_.anchors; }
+  int discard() const override { return p_.discard; }
+  int state_dim() const override { return ConstantVelocity2::kDim; }
+  const MeasurementStack& measurements() const override { return stack_; }
+  std::string paper_source() const override {
+    return "Ke & Wu 2011, Table 1 (67% / 95% position error, m) and Table 2 (Matlab, Pentium IV: s per 2000 "
+           "steps, given here as us per step)";
+  }
+  std::vector<PaperValue> paper() const override {
+    // Ke & Wu 2011 Table 1: {proposed, iterated NLOS EKF, EKF} x {67%, 95%} per case.
+    static const double t1[4][6] = {{17.17, 30.07, 34.58, 73.35, 9.83, 38.39},
+                                    {32.76, 63.96, 105.8, 221.1, 309.2, 375.1},
+                                    {35.99, 69.52, 238.5, 280.1, 789.9, 859.5},
+                                    {37.37, 76.58, 301.9, 315.9, 828.5, 916.3}};
+    // Ke & Wu 2011 Table 2: 0.352 s, 0.216 s, 0.191 s per 2000 steps.
+    static const double t2[3] = {0.352, 0.216, 0.191};
+    const char* est[3] = {kProposed, kIterated, kEkf};
+    std::vector<PaperValue> v;
+    const std::vector<std::string> cs = cases();
+    for (int c = 0; c < 4; ++c)
+      for (int e = 0; e < 3; ++e) {
+        v.push_back({est[e], cs[static_cast<std::size_t>(c)], "p67", t1[c][2 * e]});
+        v.push_back({est[e], cs[static_cast<std::size_t>(c)], "p95", t1[c][2 * e + 1]});
+        v.push_back({est[e], cs[static_cast<std::size_t>(c)], "time_per_step_us", t2[e] / 2000.0 * 1e6});
+      }
+    return v;
+  }
+
+  const K1Params& params() const { return p_; }
+  /// Motion model of the truth and of the filters: Ke & Wu eq. (16).
+  const ConstantVelocity2& motion() const { return motion_; }
+  /// Number of NLOS nodes of case index c (cases are ordered 0, 1, 2, 3 NLOS nodes).
+  static int nlos_count(int c) { return c; }
+  /// True when anchor b is NLOS in case c (choice: the last nlos_count(c) nodes).
+  static bool is_nlos(int c, int b) { return b >= 3 - nlos_count(c); }
+
+ protected:
+  void generate(int c, int T, Rng& rng, Draw& d) const override {
+    constexpr int B = 3;
+    d.states.resize(T, 4);
+    d.positions.resize(T, 2);
+    d.y.resize(T, B);
+    d.sight.resize(T, B);
+    d.quality.setConstant(T, B, std::numeric_limits<double>::quiet_NaN());  // K1 has no quality statistic
+
+    Vec<4> x;
+    x << p_.start, p_.velocity;
+    // Initial belief first, so a shorter draw is a prefix of a longer one.
+    d.initial_mean.resize(4);
+    for (int i = 0; i < 4; ++i) d.initial_mean[i] = x[i] + p_.initial_std[i] * rng.normal();
+    d.initial_cov = p_.initial_std.array().square().matrix().asDiagonal();
+
+    const double sa = std::sqrt(p_.accel_var), dt = p_.dt;
+    for (int k = 0; k < T; ++k) {
+      if (k > 0) {
+        // Ke & Wu eq. (16)-(17): S(k) = Phi S(k-1) + Gamma W(k), W ~ N(0, diag(sigma_x^2, sigma_y^2)).
+        const double ax = sa * rng.normal(), ay = sa * rng.normal();
+        x = motion_.F() * x;
+        x[0] += 0.5 * dt * dt * ax;
+        x[1] += 0.5 * dt * dt * ay;
+        x[2] += dt * ax;
+        x[3] += dt * ay;
+      }
+      d.states.row(k) = x.transpose();
+      d.positions.row(k) = x.head<2>().transpose();
+      for (int b = 0; b < B; ++b) {
+        const bool nlos = is_nlos(c, b);
+        // Ke & Wu eqs. (1)-(2): z_i = d_i + n_i + b_i, b_i = 0 in LOS.
+        const double dist = (x.head<2>() - p_.anchors.row(b).transpose()).norm();
+        double z = dist + los_.sample(rng);
+        if (nlos) z += bias_.sample(rng);
+        d.y(k, b) = z;
+        d.sight(k, b) = nlos ? 1 : 0;
+      }
+    }
+  }
+
+ private:
+  static MeasurementStack make_stack(const K1Params& p) {
+    MeasurementStack st(ConstantVelocity2::layout(), p.anchors, 2);
+    // Condition 0: n ~ N(0, sigma_los^2); condition 1: n + b ~ N(nlos_mean, sigma_los^2 + nlos_std^2).
+    for (int b = 0; b < 3; ++b)
+      st.add_toa(b, {noise::Normal(0.0, p.sigma_los),
+                     noise::ShiftedNormal(p.nlos_mean, std::hypot(p.sigma_los, p.nlos_std))});
+    return st;
+  }
+
+  K1Params p_;
+  ConstantVelocity2 motion_;
+  MeasurementStack stack_;
+  noise::ShiftedNormal bias_;  ///< b_i of eq. (1) in NLOS
+  noise::Normal los_;          ///< n_i of eq. (1)
+};
+
+/// K1 "EKF": Ke & Wu's baseline EKF (eqs. 17-24) assuming LOS on every node (R = 50^2 I), motion eq. (16).
+inline std::unique_ptr<Estimator> make_k1_ekf(const K1& s, int /*case_index*/) {
+  return make_filter_estimator(K1::kEkf, Ekf<ConstantVelocity2>(s.motion(), s.measurements(), Gaussian<4>()),
+                               SightPolicy::kAssumeLos);
+}
+
+/// Registers K1 and its estimators (one line each).
+inline void register_k1(Registry& r) {
+  r.add_scenario<K1>();
+  r.add_estimator<K1>("K1", K1::kEkf, make_k1_ekf);
+}
+
+}  // namespace nlosloc::sim

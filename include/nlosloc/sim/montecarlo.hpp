@@ -1,0 +1,227 @@
+#pragma once
+/// \file montecarlo.hpp
+/// Monte Carlo runner: every estimator runs on identical draws (each run's Draw is generated once and fed
+/// to every estimator), runs are spread over std::thread workers by an atomic counter, and the result does
+/// not depend on the number of threads (run r always uses Rng(seed, r) for its draw and the estimator
+/// stream below, and writes row r of the result).
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "nlosloc/core/random.hpp"
+#include "nlosloc/sim/scenario.hpp"
+
+namespace nlosloc::sim {
+
+/// Options of run_monte_carlo.
+struct MonteCarloOptions {
+  int runs = 100;          ///< number of runs N >= 1 (Ke & Wu Sec. 6: N = 100)
+  std::uint64_t seed = 1;  ///< seed; run r draws from Rng(seed, r)
+  int threads = 0;         ///< worker threads; 0 = std::thread::hardware_concurrency()
+  int steps = 0;           ///< steps per run; 0 = the scenario's default
+  /// Called on the calling thread with (runs done, runs) at the start and whenever runs complete.
+  /// May throw to cancel (workers stop after their current run; the exception is rethrown).
+  std::function<void(int done, int total)> progress;
+  /// Called on the calling thread about every poll_interval_ms while workers run (e.g. to check for
+  /// Ctrl-C); may throw to cancel, like progress.
+  std::function<void()> poll;
+  int poll_interval_ms = 100;  ///< > 0
+};
+
+/// A named estimator factory given to the runner.
+struct EstimatorSpec {
+  std::string name;
+  EstimatorFactory make;
+};
+
+/// Per-estimator output of a Monte Carlo run.
+struct EstimatorRuns {
+  std::string name;
+  RowMatX errors;         ///< runs x T position error norms ||p_hat_k - p_k|| (m)
+  VecX time_per_step_ns;  ///< runs: wall time of the run's step loop (steady_clock) / T, ns
+};
+
+/// Output of run_monte_carlo.
+struct MonteCarloResult {
+  std::string scenario;
+  std::string case_name;
+  int case_index = 0;
+  int runs = 0;
+  int steps = 0;
+  int discard = 0;  ///< the scenario's discard (statistics use steps k >= discard)
+  int threads = 0;  ///< workers actually used
+  std::uint64_t seed = 0;
+  double dt = 0.0;
+  double wall_seconds = 0.0;
+  std::vector<EstimatorRuns> estimators;  ///< in the order given
+
+  /// Output of the estimator called `name`; throws std::invalid_argument if absent.
+  const EstimatorRuns& estimator(const std::string& name) const {
+    for (const auto& e : estimators)
+      if (e.name == name) return e;
+    nlosloc::detail::throw_invalid_argument("estimator: '" + name + "' is not in this result");
+  }
+};
+
+/// Seed of estimator `name`'s generator: seed mixed with the FNV-1a hash of the name, so an estimator's
+/// stream for run r, Rng(estimator_seed(seed, name), r), is the same whatever other estimators run beside it
+/// and differs from the draw's Rng(seed, r).
+inline std::uint64_t estimator_seed(std::uint64_t seed, const std::string& name) {
+  std::uint64_t h = 0xCBF29CE484222325ULL;  // FNV-1a 64-bit offset basis
+  for (unsigned char ch : name) h = (h ^ ch) * 0x100000001B3ULL;
+  h ^= 0xE57A'0000'0000'0001ULL;  // never 0, so the estimator seed differs from the draw seed
+  return seed ^ h;
+}
+
+/// Runs `estimators` on `opt.runs` draws of case `case_name` of `scenario`. Every draw is generated once
+/// per run and fed to every estimator (each estimator made once per worker, reset per run); each estimator
+/// gets Rng(estimator_seed(seed, name), run). Exceptions from a factory, an estimator or a callback stop the
+/// workers and are rethrown here. Results are bit-identical for any number of threads.
+inline MonteCarloResult run_monte_carlo(const Scenario& scenario, const std::string& case_name,
+                                        const std::vector<EstimatorSpec>& estimators,
+                                        const MonteCarloOptions& opt = {}) {
+  NLOSLOC_ENSURE(opt.runs >= 1, "runs: expected >= 1, got " + std::to_string(opt.runs));
+  NLOSLOC_ENSURE(opt.threads >= 0,
+                 "threads: expected >= 0 (0 = all cores), got " + std::to_string(opt.threads));
+  NLOSLOC_ENSURE(opt.steps >= 0,
+                 "steps: expected >= 0 (0 = the scenario's default), got " + std::to_string(opt.steps));
+  NLOSLOC_ENSURE(opt.poll_interval_ms > 0, "poll_interval_ms: expected > 0");
+  NLOSLOC_ENSURE(!estimators.empty(), "estimators: expected at least one estimator");
+  for (const auto& e : estimators)
+    NLOSLOC_ENSURE(bool(e.make), "estimators: '" + e.name + "' has no factory");
+
+  const auto wall0 = std::chrono::steady_clock::now();
+  MonteCarloResult res;
+  res.scenario = scenario.name();
+  res.case_name = case_name;
+  res.case_index = scenario.case_index(case_name);
+  res.runs = opt.runs;
+  res.steps = opt.steps > 0 ? opt.steps : scenario.steps();
+  res.discard = scenario.discard();
+  res.seed = opt.seed;
+  res.dt = scenario.dt();
+  int hw = opt.threads > 0 ? opt.threads : static_cast<int>(std::thread::hardware_concurrency());
+  res.threads = std::max(1, std::min(hw, opt.runs));
+
+  const int T = res.steps, R = opt.runs, D = scenario.space_dim();
+  const auto E = estimators.size();
+  res.estimators.resize(E);
+  std::vector<std::uint64_t> est_seed(E);
+  for (std::size_t e = 0; e < E; ++e) {
+    res.estimators[e].name = estimators[e].name;
+    res.estimators[e].errors.setZero(R, T);
+    res.estimators[e].time_per_step_ns.setZero(R);
+    est_seed[e] = estimator_seed(opt.seed, estimators[e].name);
+  }
+
+  std::atomic<int> next{0};
+  std::atomic<bool> stop{false};
+  std::mutex mu;
+  std::condition_variable cv;
+  int done = 0, exited = 0;
+  std::exception_ptr error;
+
+  auto worker = [&]() {
+    try {
+      std::vector<std::unique_ptr<Estimator>> est;
+      for (const auto& spec : estimators) {
+        est.push_back(spec.make(scenario, res.case_index));
+        NLOSLOC_ENSURE(est.back() != nullptr, "estimators: factory of '" + spec.name + "' returned null");
+      }
+      MatX pos(D, T), Yt, Ot;  // column k = step k (contiguous, so step() binds without copies)
+      while (!stop.load(std::memory_order_relaxed)) {
+        const int r = next.fetch_add(1);
+        if (r >= R) break;
+        const Draw d = scenario.draw(case_name, opt.seed, static_cast<std::uint64_t>(r), T);
+        Yt = d.y.transpose();
+        Ot = d.quality.transpose();
+        for (std::size_t e = 0; e < E; ++e) {
+          Rng rng(est_seed[e], static_cast<std::uint64_t>(r));
+          est[e]->reset(d, rng);
+          const auto t0 = std::chrono::steady_clock::now();
+          for (int k = 0; k < T; ++k) est[e]->step(k, Yt.col(k), Ot.col(k), pos.col(k));
+          const auto t1 = std::chrono::steady_clock::now();
+          auto& out = res.estimators[e];
+          for (int k = 0; k < T; ++k) out.errors(r, k) = (pos.col(k) - d.positions.row(k).transpose()).norm();
+          out.time_per_step_ns[r] =
+              static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count()) / T;
+        }
+        {
+          std::lock_guard<std::mutex> lk(mu);
+          ++done;
+        }
+        cv.notify_all();
+      }
+    } catch (...) {
+      std::lock_guard<std::mutex> lk(mu);
+      if (!error) error = std::current_exception();
+      stop = true;
+    }
+    {
+      std::lock_guard<std::mutex> lk(mu);
+      ++exited;
+    }
+    cv.notify_all();
+  };
+
+  // Joins the workers on every exit path (a throwing callback included).
+  struct Pool {
+    std::vector<std::thread> threads;
+    std::atomic<bool>* stop;
+    ~Pool() {
+      stop->store(true);
+      for (auto& t : threads)
+        if (t.joinable()) t.join();
+    }
+  } pool{{}, &stop};
+  pool.threads.reserve(static_cast<std::size_t>(res.threads));
+  for (int i = 0; i < res.threads; ++i) pool.threads.emplace_back(worker);
+
+  int reported = -1;
+  for (;;) {
+    int now_done, now_exited;
+    bool failed;
+    {
+      std::unique_lock<std::mutex> lk(mu);
+      cv.wait_for(lk, std::chrono::milliseconds(opt.poll_interval_ms),
+                  [&] { return done != reported || exited == res.threads; });
+      now_done = done;
+      now_exited = exited;
+      failed = error != nullptr;
+    }
+    if (now_done != reported && !failed) {
+      reported = now_done;
+      if (opt.progress) opt.progress(now_done, R);
+    }
+    if (now_exited == res.threads) break;
+    if (opt.poll && !failed) opt.poll();
+  }
+  for (auto& t : pool.threads) t.join();
+  if (error) std::rethrow_exception(error);
+  res.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return res;
+}
+
+/// Runs the estimators registered under `names` (empty: all registered) for scenario `scenario_name` of
+/// registry `reg`; throws std::invalid_argument on an unknown scenario, case or estimator name.
+inline MonteCarloResult run_monte_carlo(const Registry& reg, const std::string& scenario_name,
+                                        const std::string& case_name, const std::vector<std::string>& names,
+                                        const MonteCarloOptions& opt = {}) {
+  const Scenario& s = reg.scenario(scenario_name);
+  s.case_index(case_name);  // validate before starting threads
+  const std::vector<std::string> use = names.empty() ? reg.estimators(scenario_name) : names;
+  std::vector<EstimatorSpec> specs;
+  for (const auto& n : use) specs.push_back({n, reg.estimator(scenario_name, n)});
+  return run_monte_carlo(s, case_name, specs, opt);
+}
+
+}  // namespace nlosloc::sim

@@ -1,0 +1,21 @@
+#pragma once
+/// \file registry.hpp
+/// The built-in registry of scenarios and estimators used by nlosloc-bench and the Python bindings.
+/// Adding a scenario is one register_<name>(r) line here; adding an estimator to a scenario is one
+/// r.add_estimator<Scenario>(...) line in that scenario's register function.
+#include "nlosloc/sim/k1.hpp"
+#include "nlosloc/sim/scenario.hpp"
+
+namespace nlosloc::sim {
+
+/// The registry with every built-in scenario and estimator; built on first use (thread-safe), then read-only.
+inline const Registry& registry() {
+  static const Registry r = [] {
+    Registry reg;
+    register_k1(reg);  // Ke & Wu 2011 Sec. 6.1
+    return reg;
+  }();
+  return r;
+}
+
+}  // namespace nlosloc::sim

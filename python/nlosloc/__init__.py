@@ -1,0 +1,31 @@
+"""nlosloc: NLOS-robust radio localisation (TOA, RTOA, TDOA, AOA, two-way ranging).
+
+The compiled extension ``nlosloc._core`` is split into submodules, re-exported here and importable
+as ``nlosloc.core``, ``nlosloc.noise``, ``nlosloc.models``, ``nlosloc.filters`` and ``nlosloc.sim``
+(``from nlosloc.filters import Ukf`` works). ``nlosloc.plots`` (needs matplotlib, the ``plots``
+extra) and ``nlosloc.montecarlo`` are pure-Python modules, imported on demand.
+"""
+
+from __future__ import annotations
+
+import sys as _sys
+
+from nlosloc import _core
+from nlosloc._core import core, filters, models, noise, sim
+
+__version__: str = _core.__version__
+
+__all__ = ["core", "filters", "models", "noise", "sim"]
+
+# pybind11 submodules are attributes of _core, not entries of sys.modules; register them so that
+# `import nlosloc.filters` and `from nlosloc._core.filters import X` both work.
+for _name, _mod in (
+    ("core", core),
+    ("noise", noise),
+    ("models", models),
+    ("filters", filters),
+    ("sim", sim),
+):
+    _sys.modules.setdefault(f"{__name__}.{_name}", _mod)
+    _sys.modules.setdefault(f"{__name__}._core.{_name}", _mod)
+del _name, _mod

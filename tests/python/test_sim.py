@@ -1,0 +1,132 @@
+"""nlosloc.sim bindings and the montecarlo / plots helpers."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+from nlosloc import montecarlo, sim
+
+CASE = "2LOS/1NLOS"
+
+
+def test_registry_and_info() -> None:
+    assert "K1" in sim.scenarios()
+    info = sim.scenario_info("K1")
+    assert info["cases"] == ["3LOS/0NLOS", "2LOS/1NLOS", "1LOS/2NLOS", "0LOS/3NLOS"]
+    assert "EKF" in info["estimators"]
+    assert info["steps"] == 2000 and info["discard"] == 100 and info["dt"] == pytest.approx(0.1)
+    assert info["anchors"].shape == (3, 2)
+    assert any("1000, 1000" in c for c in info["choices"])
+    table = {(v["estimator"], v["case"], v["metric"]): v["value"] for v in info["paper"]}
+    assert table[("EKF", "2LOS/1NLOS", "p67")] == pytest.approx(309.2)
+    assert table[("proposed", "0LOS/3NLOS", "p95")] == pytest.approx(76.58)
+    with pytest.raises(ValueError, match="K1"):
+        sim.scenario_info("K9")
+
+
+def test_draw_reproducible() -> None:
+    a = sim.draw("K1", CASE, seed=3, run=2)
+    b = sim.draw("K1", CASE, seed=3, run=2)
+    c = sim.draw("K1", CASE, seed=3, run=5)
+    assert a["states"].shape == (2000, 4)
+    assert a["positions"].shape == (2000, 2)
+    assert a["y"].shape == (2000, 3)
+    assert a["sight"].shape == (2000, 3) and np.issubdtype(a["sight"].dtype, np.integer)
+    assert np.all(np.isnan(a["quality"]))
+    assert a["initial_mean"].shape == (4,) and a["initial_cov"].shape == (4, 4)
+    for key in ("states", "y", "sight", "initial_mean"):
+        np.testing.assert_array_equal(a[key], b[key])
+    assert not np.any(a["y"] == c["y"])
+    np.testing.assert_array_equal(a["sight"][:, 2], 1)  # last node NLOS
+    short = sim.draw("K1", CASE, seed=3, run=2, steps=50)
+    np.testing.assert_array_equal(short["y"], a["y"][:50])
+    with pytest.raises(ValueError, match="3LOS/0NLOS"):
+        sim.draw("K1", "nope", seed=1, run=0)
+
+
+def test_run_monte_carlo_shapes_and_threads() -> None:
+    r1 = sim.run_monte_carlo("K1", CASE, runs=4, seed=1, threads=1, steps=300)
+    r2 = sim.run_monte_carlo("K1", CASE, runs=4, seed=1, threads=2, steps=300, estimators=["EKF"])
+    assert r1["discard"] == 100 and r1["dt"] == pytest.approx(0.1) and r1["steps"] == 300
+    e = r1["estimators"]["EKF"]
+    assert e["errors"].shape == (4, 300)
+    assert e["time_per_step_ns"].shape == (4,)
+    assert np.all(e["time_per_step_ns"] > 0)
+    np.testing.assert_array_equal(e["errors"], r2["estimators"]["EKF"]["errors"])
+    with pytest.raises(ValueError, match="EKF"):
+        sim.run_monte_carlo("K1", CASE, runs=2, seed=1, estimators=["UKF"])
+    with pytest.raises(ValueError):
+        sim.run_monte_carlo("K1", CASE, runs=0, seed=1)
+
+
+def test_percentiles_match_numpy() -> None:
+    res = montecarlo.run("K1", CASE, runs=3, seed=2, steps=400, progress=False)
+    errors = res["estimators"]["EKF"]["errors"]
+    pooled = errors[:, 100:].ravel()
+    q = [50, 67, 90, 95]
+    got = montecarlo.percentiles(res, q)["EKF"]
+    np.testing.assert_array_equal(got, np.percentile(pooled, q))
+    # The C++ metric used by the bench agrees with numpy to the last bit or so.
+    np.testing.assert_allclose(sim.percentiles(pooled, q), np.percentile(pooled, q), rtol=1e-15)
+    x, p = montecarlo.ecdf(pooled)
+    np.testing.assert_array_equal(x, np.sort(pooled))
+    assert p[-1] == 1.0 and p[0] == pytest.approx(1 / pooled.size)
+    cx, cp = sim.ecdf(pooled)
+    np.testing.assert_array_equal(cx, x)
+    np.testing.assert_allclose(cp, p, rtol=1e-15)
+    np.testing.assert_allclose(
+        sim.rmse_over_time(errors), np.sqrt(np.mean(errors**2, axis=0)), rtol=1e-14
+    )
+    np.testing.assert_allclose(montecarlo.rmse(res)["EKF"], sim.rmse_over_time(errors), rtol=1e-14)
+    assert sim.probability_within(np.array([1.0, 2.0, 3.0, 4.0]), 2.0) == 0.5
+
+
+def test_progress_callback_called() -> None:
+    calls: list[tuple[int, int]] = []
+    montecarlo.run(
+        "K1", CASE, runs=5, seed=1, steps=150, progress=lambda d, t: calls.append((d, t))
+    )
+    assert calls and calls[-1] == (5, 5)
+    assert all(t == 5 for _, t in calls)
+    assert [d for d, _ in calls] == sorted({d for d, _ in calls})
+    # progress=True draws a bar and returns the same numbers.
+    a = montecarlo.run("K1", CASE, runs=2, seed=1, steps=150, progress=True)
+    b = montecarlo.run("K1", CASE, runs=2, seed=1, steps=150, progress=False)
+    np.testing.assert_array_equal(
+        a["estimators"]["EKF"]["errors"], b["estimators"]["EKF"]["errors"]
+    )
+
+
+def test_progress_exception_cancels() -> None:
+    def stop(done: int, total: int) -> None:
+        if done >= 1:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sim.run_monte_carlo("K1", CASE, runs=200, seed=1, progress=stop)
+    with pytest.raises(TypeError):
+        sim.run_monte_carlo("K1", CASE, runs=1, seed=1, progress=3)
+
+
+def test_plots_agg(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from nlosloc import plots
+
+    assert os.environ["MPLBACKEND"] == "Agg"
+    res = montecarlo.run("K1", CASE, runs=2, seed=1, steps=200, progress=False)
+    ax = plots.error_cdf(res)
+    assert ax.figure is not None
+    assert len(ax.get_lines()) == len(res["estimators"])
+    ax2 = plots.rmse_over_time(res)
+    assert len(ax2.get_lines()) == len(res["estimators"])
+    np.testing.assert_allclose(ax2.get_lines()[0].get_ydata(), montecarlo.rmse(res)["EKF"])
+    fig, ax3 = plt.subplots()
+    assert plots.error_cdf(res, ax=ax3, discard=False) is ax3
+    plt.close("all")
