@@ -175,6 +175,7 @@ int cmd_run(const Registry& reg, RunArgs a) {
              {{"mean", es.time_per_step_ns},
               {"runs", std::vector<double>(er.time_per_step_ns.data(),
                                            er.time_per_step_ns.data() + er.time_per_step_ns.size())}}},
+            {"sight_accuracy", optional_json(es.sight_accuracy)},
             {"paper",
              {{"p67", optional_json(es.paper_p67)},
               {"p95", optional_json(es.paper_p95)},

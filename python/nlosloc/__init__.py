@@ -11,11 +11,33 @@ from __future__ import annotations
 import sys as _sys
 
 from nlosloc import _core
-from nlosloc._core import core, filters, models, noise, sim
+from nlosloc._core import (
+    bounds,
+    core,
+    filters,
+    mitigation,
+    models,
+    noise,
+    rbpf,
+    sim,
+    situation,
+    snapshot,
+)
 
 __version__: str = _core.__version__
 
-__all__ = ["core", "filters", "models", "noise", "sim"]
+__all__ = [
+    "bounds",
+    "core",
+    "filters",
+    "mitigation",
+    "models",
+    "noise",
+    "rbpf",
+    "sim",
+    "situation",
+    "snapshot",
+]
 
 # pybind11 submodules are attributes of _core, not entries of sys.modules; register them so that
 # `import nlosloc.filters` and `from nlosloc._core.filters import X` both work.
@@ -25,6 +47,11 @@ for _name, _mod in (
     ("models", models),
     ("filters", filters),
     ("sim", sim),
+    ("situation", situation),
+    ("rbpf", rbpf),
+    ("snapshot", snapshot),
+    ("mitigation", mitigation),
+    ("bounds", bounds),
 ):
     _sys.modules.setdefault(f"{__name__}.{_name}", _mod)
     _sys.modules.setdefault(f"{__name__}._core.{_name}", _mod)

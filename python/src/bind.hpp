@@ -10,6 +10,16 @@ void bind_core(pybind11::module_& m);
 void bind_noise(pybind11::module_& m);
 /// nlosloc.models: motion and measurement models (bind_models.cpp).
 void bind_models(pybind11::module_& m);
+/// nlosloc.situation: sight Markov models, quality likelihoods, forward filter (bind_situation.cpp).
+void bind_situation(pybind11::module_& m);
+/// nlosloc.rbpf: RBPF (classical, reordered), merge/prune, joint PF (bind_rbpf.cpp).
+void bind_rbpf(pybind11::module_& m);
+/// nlosloc.snapshot: MLE-LOS, CHEN, CONG, URR baselines (bind_snapshot.cpp).
+void bind_snapshot(pybind11::module_& m);
+/// nlosloc.mitigation: Ke and Wu QP-bias EKF, iterated NLOS EKF, QP adapter (bind_mitigation.cpp).
+void bind_mitigation(pybind11::module_& m);
+/// nlosloc.bounds: GCRB (bind_bounds.cpp).
+void bind_bounds(pybind11::module_& m);
 /// nlosloc.filters: KF, EKF, UKF, IUKF, RBPF and the other estimators (bind_filters.cpp).
 void bind_filters(pybind11::module_& m);
 /// nlosloc.sim: trajectories, scenarios, Monte Carlo runner, metrics (bind_sim.cpp).

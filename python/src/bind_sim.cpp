@@ -115,6 +115,10 @@ py::dict run_monte_carlo(const std::string& name, const std::string& case_name, 
     py::dict d;
     d["errors"] = py::cast(std::move(e.errors));
     d["time_per_step_ns"] = py::cast(std::move(e.time_per_step_ns));
+    if (e.sight_accuracy.size() > 0) {  // estimators that classify sight (Estimator::estimates_sight)
+      d["sight_accuracy"] = py::cast(std::move(e.sight_accuracy));
+      d["sight_anchor_accuracy"] = py::cast(std::move(e.sight_anchor_accuracy));
+    }
     ests[py::str(e.name)] = d;
   }
   py::dict r;
@@ -223,7 +227,8 @@ Returns
 -------
 dict
     ``estimators``: dict name -> {``errors``: runs x T position error norms (m),
-    ``time_per_step_ns``: runs}; and ``scenario``, ``case``, ``runs``, ``steps``, ``seed``,
+    ``time_per_step_ns``: runs, and for estimators that classify sight ``sight_accuracy``:
+    (runs, T) fraction of anchors classified correctly, ``sight_anchor_accuracy``: (runs, B)}; and ``scenario``, ``case``, ``runs``, ``steps``, ``seed``,
     ``discard``, ``dt`` (s), ``threads``, ``wall_seconds``.
 
 Raises

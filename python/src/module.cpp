@@ -20,8 +20,19 @@ PYBIND11_MODULE(_core, m) {
   bind_noise(noise);
   auto models = m.def_submodule("models", "Motion and measurement models (TOA, RTOA, TDOA, AOA, TWR).");
   bind_models(models);
+  auto situation =
+      m.def_submodule("situation", "Sight (LOS/NLOS) Markov models, quality likelihoods, HMM filter.");
+  bind_situation(situation);
   auto filters = m.def_submodule("filters", "Estimators: KF, EKF, UKF, IUKF, particle filters.");
   bind_filters(filters);
+  auto rbpf = m.def_submodule("rbpf", "Rao-Blackwellized particle filters with merge/prune, joint PF.");
+  bind_rbpf(rbpf);
+  auto snapshot = m.def_submodule("snapshot", "Per-epoch solvers and baselines: MLE-LOS, CHEN, CONG, URR.");
+  bind_snapshot(snapshot);
+  auto mitigation = m.def_submodule("mitigation", "Ke and Wu QP-bias EKF, bias-augmented EKF, QP adapter.");
+  bind_mitigation(mitigation);
+  auto bounds = m.def_submodule("bounds", "Performance bounds: GCRB (Huerta appendix).");
+  bind_bounds(bounds);
   auto sim = m.def_submodule("sim", "Scenarios, simulator, Monte Carlo runner and metrics.");
   bind_sim(sim);
 }

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -48,6 +49,11 @@ struct EstimatorRuns {
   std::string name;
   RowMatX errors;         ///< runs x T position error norms ||p_hat_k - p_k|| (m)
   VecX time_per_step_ns;  ///< runs: wall time of the run's step loop (steady_clock) / T, ns
+  /// runs x T fraction of anchors whose estimated sight equals the true sight at step k; empty when the
+  /// estimator does not estimate sight (Estimator::estimates_sight()).
+  RowMatX sight_accuracy;
+  /// runs x B fraction of steps k >= discard at which anchor b was classified correctly; empty likewise.
+  RowMatX sight_anchor_accuracy;
 };
 
 /// Output of run_monte_carlo.
@@ -137,7 +143,8 @@ inline MonteCarloResult run_monte_carlo(const Scenario& scenario, const std::str
         est.push_back(spec.make(scenario, res.case_index));
         NLOSLOC_ENSURE(est.back() != nullptr, "estimators: factory of '" + spec.name + "' returned null");
       }
-      MatX pos(D, T), Yt, Ot;  // column k = step k (contiguous, so step() binds without copies)
+      MatX pos(D, T), Yt, Ot;     // column k = step k (contiguous, so step() binds without copies)
+      Eigen::MatrixXi sight_hat;  // B x T estimated sight, when an estimator provides it
       while (!stop.load(std::memory_order_relaxed)) {
         const int r = next.fetch_add(1);
         if (r >= R) break;
@@ -147,10 +154,36 @@ inline MonteCarloResult run_monte_carlo(const Scenario& scenario, const std::str
         for (std::size_t e = 0; e < E; ++e) {
           Rng rng(est_seed[e], static_cast<std::uint64_t>(r));
           est[e]->reset(d, rng);
+          const bool sighted = est[e]->estimates_sight();
+          const auto B = static_cast<Eigen::Index>(d.sight.cols());
+          if (sighted) sight_hat.setZero(B, T);
           const auto t0 = std::chrono::steady_clock::now();
-          for (int k = 0; k < T; ++k) est[e]->step(k, Yt.col(k), Ot.col(k), pos.col(k));
+          for (int k = 0; k < T; ++k) {
+            est[e]->step(k, Yt.col(k), Ot.col(k), pos.col(k));
+            if (sighted) est[e]->sight_estimate(sight_hat.col(k));
+          }
           const auto t1 = std::chrono::steady_clock::now();
           auto& out = res.estimators[e];
+          if (sighted) {
+            std::lock_guard<std::mutex> lk(mu);  // first run sizes the shared matrices
+            if (out.sight_accuracy.size() == 0) {
+              out.sight_accuracy.setConstant(R, T, std::numeric_limits<double>::quiet_NaN());
+              out.sight_anchor_accuracy.setConstant(R, B, std::numeric_limits<double>::quiet_NaN());
+            }
+          }
+          if (sighted) {
+            const int from = std::min(scenario.discard(), T - 1);
+            for (Eigen::Index b = 0; b < B; ++b) {
+              int hits = 0;
+              for (int k = from; k < T; ++k) hits += sight_hat(b, k) == d.sight(k, b);
+              out.sight_anchor_accuracy(r, b) = static_cast<double>(hits) / (T - from);
+            }
+            for (int k = 0; k < T; ++k) {
+              int hits = 0;
+              for (Eigen::Index b = 0; b < B; ++b) hits += sight_hat(b, k) == d.sight(k, b);
+              out.sight_accuracy(r, k) = B > 0 ? static_cast<double>(hits) / static_cast<double>(B) : 0.0;
+            }
+          }
           for (int k = 0; k < T; ++k) out.errors(r, k) = (pos.col(k) - d.positions.row(k).transpose()).norm();
           out.time_per_step_ns[r] =
               static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count()) / T;

@@ -25,6 +25,9 @@ struct EstimatorSummary {
   double time_per_step_ns = 0.0;    ///< mean over runs of the per-run time per step (ns)
   std::optional<double> paper_p67, paper_p95;    ///< published 67% / 95% errors (m), if any
   std::optional<double> paper_time_per_step_us;  ///< published time per step (us), if any
+  /// Fraction of (anchor, step k >= discard) pairs whose sight was classified correctly, for estimators
+  /// that classify sight (Estimator::estimates_sight); empty otherwise.
+  std::optional<double> sight_accuracy;
 
   /// Percentile at `level` (one of levels); NaN if it was not computed.
   double at(double level) const {
@@ -64,6 +67,7 @@ inline CaseSummary summarize(const Scenario& s, const MonteCarloResult& r,
     m.paper_p67 = s.paper_value(e.name, r.case_name, "p67");
     m.paper_p95 = s.paper_value(e.name, r.case_name, "p95");
     m.paper_time_per_step_us = s.paper_value(e.name, r.case_name, "time_per_step_us");
+    if (e.sight_anchor_accuracy.size() > 0) m.sight_accuracy = e.sight_anchor_accuracy.mean();
     c.estimators.push_back(std::move(m));
   }
   return c;
@@ -99,8 +103,9 @@ inline std::string format_table(const CaseSummary& c) {
   std::snprintf(b, sizeof b, "%s case %s: %d runs x %d steps, errors over steps k >= %d, %.2f s\n",
                 c.scenario.c_str(), c.case_name.c_str(), c.runs, c.steps, c.discard, c.wall_seconds);
   out += b;
-  std::snprintf(b, sizeof b, "  %-20s %10s %10s %10s %10s %10s %10s %10s %10s\n", "estimator", "ours 67%",
-                "ours 95%", "paper 67%", "paper 95%", "ratio 67%", "ratio 95%", "us/step", "paper us");
+  std::snprintf(b, sizeof b, "  %-20s %10s %10s %10s %10s %10s %10s %10s %10s %10s\n", "estimator",
+                "ours 67%", "ours 95%", "paper 67%", "paper 95%", "ratio 67%", "ratio 95%", "us/step",
+                "paper us", "sight acc");
   out += b;
   for (const EstimatorSummary& e : c.estimators) {
     const double p67 = e.at(67.0), p95 = e.at(95.0);
@@ -112,7 +117,8 @@ inline std::string format_table(const CaseSummary& c) {
     out += " " + detail::report_num(detail::report_ratio(p67, e.paper_p67), "%10.3f") + " " +
            detail::report_num(detail::report_ratio(p95, e.paper_p95), "%10.3f");
     out += " " + detail::report_num(e.time_per_step_ns * 1e-3, "%10.3f") + " " +
-           detail::report_num(e.paper_time_per_step_us) + "\n";
+           detail::report_num(e.paper_time_per_step_us) + " " +
+           detail::report_num(e.sight_accuracy, "%10.3f") + "\n";
   }
   return out;
 }

@@ -148,6 +148,12 @@ class Estimator {
   /// writes the position estimate (D) into position_out. k = 0 is an update only (see file comment).
   virtual void step(int k, const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o,
                     Eigen::Ref<VecX> position_out) = 0;
+  /// True when the estimator classifies the sight of each anchor (RBPF, IUKF, NLOS tests); the runner
+  /// then calls sight_estimate() after every step and scores it against the draw's true sight.
+  virtual bool estimates_sight() const { return false; }
+  /// Estimated sight condition of each anchor after the last step (B entries, argmax / decision);
+  /// only called when estimates_sight() is true.
+  virtual void sight_estimate(Eigen::Ref<VecXi> out) const { out.setZero(); }
 };
 
 /// Makes an estimator for a scenario and case index.
