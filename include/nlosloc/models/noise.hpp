@@ -418,8 +418,8 @@ class Gev : public detail::DistributionBase<Gev> {
 /// Normal N(mu, sigma^2) truncated to [lower, upper] (Johnson, Kotz & Balakrishnan vol. 1 ch. 13). Bias prior
 /// of Giremus & Grolleau Sec. 5 (N(2000, 2000^2/9) and N(40, 40^2/9) truncated to positive values).
 /// Probabilities use the standard-normal mass evaluated in the tail where it is small, and next to a finite
-/// bound the mass of the exact offset from it, so intervals far in a tail keep their relative accuracy as long
-/// as their mass is a normal double (standardised bounds up to about 37; the constructor checks this).
+/// bound the mass of the exact offset from it, so intervals far in a tail keep their relative accuracy as
+/// long as their mass is a normal double (standardised bounds up to about 37; the constructor checks this).
 class TruncatedNormal : public detail::DistributionBase<TruncatedNormal> {
  public:
   static constexpr const char* kName = "TruncatedNormal";
