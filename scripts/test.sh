@@ -33,7 +33,7 @@ step "Python tests (pytest)"
 
 step "formatting (clang-format, ruff)"
 cxx_dirs=()
-for d in include src tests/cpp tests/nomalloc tests/consumer bench python/src; do
+for d in include src tests/cpp tests/nomalloc tests/consumer bench examples python/src; do
   [ -d "$d" ] && cxx_dirs+=("$d")
 done
 mapfile -t cxx_files < <(find "${cxx_dirs[@]}" -type f \( -name '*.hpp' -o -name '*.cpp' -o -name '*.h' \) | sort)
