@@ -11,7 +11,18 @@ import pytest
 
 import nlosloc
 
-SUBMODULES = ["core", "noise", "models", "filters", "sim"]
+SUBMODULES = [
+    "core",
+    "noise",
+    "models",
+    "situation",
+    "filters",
+    "rbpf",
+    "snapshot",
+    "mitigation",
+    "bounds",
+    "sim",
+]
 
 
 def test_version() -> None:

@@ -1,0 +1,226 @@
+"""
+Core types: Gaussian beliefs, sigma points, robust Cholesky, Rng.
+"""
+from __future__ import annotations
+import numpy
+import numpy.typing
+import typing
+__all__: list[str] = ['CholeskyStatus', 'NumericalError', 'Rng', 'SPEED_OF_LIGHT', 'SigmaScheme', 'SigmaWeights', 'log_sum_exp', 'robust_cholesky', 'sigma_points', 'wrap_angle']
+class NumericalError(RuntimeError):
+    """
+    Raised when a step cannot be completed numerically (a covariance that is not positive definite even with the Cholesky fallback). The filter keeps the belief it had before the call.
+    """
+class Rng:
+    """
+    Seeded xoshiro256++ generator; every random draw of nlosloc goes through one.
+    """
+    def __call__(self) -> int:
+        """
+        Next raw 64-bit output.
+        """
+    def __init__(self, seed: typing.SupportsInt | typing.SupportsIndex = 0, stream: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+        """
+        Generator for `seed`; `stream` selects an independent sequence (e.g. a Monte Carlo run).
+        """
+    def below(self, n: typing.SupportsInt | typing.SupportsIndex) -> int:
+        """
+        Uniform integer in [0, n).
+        """
+    def normal(self) -> float:
+        """
+        Standard normal draw.
+        """
+    def normals(self, n: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        Array of `n` standard normal draws, shape (n,).
+        """
+    def uniform(self) -> float:
+        """
+        Uniform draw in the open interval (0, 1).
+        """
+class SigmaWeights:
+    """
+    Weights of a 2n+1 sigma-point set.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def gamma(self) -> float:
+        """
+        Spread: points are mean +- gamma * L[:, i].
+        """
+    @property
+    def wc0(self) -> float:
+        """
+        Covariance weight of the centre point.
+        """
+    @property
+    def wi(self) -> float:
+        """
+        Weight of each of the 2n outer points.
+        """
+    @property
+    def wm0(self) -> float:
+        """
+        Mean weight of the centre point.
+        """
+class SigmaScheme:
+    """
+    Sigma-point rule of the unscented transform.
+    """
+    class Kind:
+        """
+        Members:
+        
+          Scaled
+        
+          Julier
+        
+          Cubature
+        
+          Huerta
+        """
+        Cubature: typing.ClassVar[SigmaScheme.Kind]
+        Huerta: typing.ClassVar[SigmaScheme.Kind]
+        Julier: typing.ClassVar[SigmaScheme.Kind]
+        Scaled: typing.ClassVar[SigmaScheme.Kind]
+        __members__: typing.ClassVar[dict[str, SigmaScheme.Kind]]
+        @typing.overload
+        def __eq__(self, other: SigmaScheme.Kind) -> bool:
+            ...
+        @typing.overload
+        def __eq__(self, other: typing.Any) -> bool:
+            ...
+        def __getstate__(self) -> int:
+            ...
+        def __hash__(self) -> int:
+            ...
+        def __index__(self) -> int:
+            ...
+        def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+            ...
+        def __int__(self) -> int:
+            ...
+        @typing.overload
+        def __ne__(self, other: SigmaScheme.Kind) -> bool:
+            ...
+        @typing.overload
+        def __ne__(self, other: typing.Any) -> bool:
+            ...
+        def __repr__(self) -> str:
+            ...
+        def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+            ...
+        def __str__(self) -> str:
+            ...
+        @property
+        def name(self) -> str:
+            ...
+        @property
+        def value(self) -> int:
+            ...
+    @staticmethod
+    def cubature() -> SigmaScheme:
+        """
+        Spherical-radial cubature rule (2n points).
+        """
+    @staticmethod
+    def huerta(alpha: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> SigmaScheme:
+        """
+        Huerta et al. 2009 eqs. (49)-(52) (scaled rule with kappa = 0, beta = 2).
+        """
+    @staticmethod
+    def julier(kappa: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> SigmaScheme:
+        """
+        Julier and Uhlmann's UT.
+        """
+    @staticmethod
+    def scaled(alpha: typing.SupportsFloat | typing.SupportsIndex = 0.001, beta: typing.SupportsFloat | typing.SupportsIndex = 2.0, kappa: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> SigmaScheme:
+        """
+        Scaled UT of Wan and van der Merwe (FilterPy's MerweScaledSigmaPoints); alpha in (0, 1].
+        """
+    def __repr__(self) -> str:
+        ...
+    def weights(self, n: typing.SupportsInt | typing.SupportsIndex) -> SigmaWeights:
+        """
+        Weights for an n-dimensional variable.
+        """
+    @property
+    def alpha(self) -> float:
+        ...
+    @property
+    def beta(self) -> float:
+        ...
+    @property
+    def kappa(self) -> float:
+        ...
+    @property
+    def kind(self) -> SigmaScheme.Kind:
+        ...
+class CholeskyStatus:
+    """
+    Outcome of a factorisation (see robust_cholesky).
+    
+    Members:
+    
+      Ok
+    
+      Jittered
+    
+      Failed
+    """
+    Failed: typing.ClassVar[CholeskyStatus]
+    Jittered: typing.ClassVar[CholeskyStatus]
+    Ok: typing.ClassVar[CholeskyStatus]
+    __members__: typing.ClassVar[dict[str, CholeskyStatus]]
+    @typing.overload
+    def __eq__(self, other: CholeskyStatus) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: CholeskyStatus) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+def log_sum_exp(v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> float:
+    """
+    log(sum(exp(v))) computed stably; -inf for empty input.
+    """
+def robust_cholesky(A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], CholeskyStatus, float]:
+    """
+    Lower Cholesky factor with the documented fallback: returns (L, status, jitter). A plain LLT of (A + A^T)/2 first; on failure retries with eps * mean(diag) added, eps = 1e-12, 1e-10, 1e-8; status Failed when all fail (L is then unusable).
+    """
+def sigma_points(mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], scheme: SigmaScheme) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+    """
+    Sigma points of N(mean, cov) as rows, shape (2n+1, n), in the order of FilterPy's MerweScaledSigmaPoints: centre, +gamma columns of L, -gamma columns.
+    """
+def wrap_angle(a: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> typing.Any:
+    """
+    Wraps angles (rad) to (-pi, pi].
+    """
+SPEED_OF_LIGHT: float = 299792458.0

@@ -1,0 +1,219 @@
+"""
+Estimators: KF, EKF, UKF, IUKF, particle filters.
+"""
+from __future__ import annotations
+import nlosloc._core.core
+import nlosloc._core.models
+import numpy
+import numpy.typing
+import typing
+__all__: list[str] = ['Ekf', 'Kf', 'StepResult', 'Ukf', 'UkfAugmented']
+class StepResult:
+    """
+    What one update reports.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def jitter(self) -> float:
+        """
+        Diagonal added by the Cholesky fallback, if any.
+        """
+    @property
+    def log_likelihood(self) -> float:
+        """
+        log p(y_t | y_1:t-1, s), Gaussian predictive over the rows used (Huerta (III.2)).
+        """
+    @property
+    def rows_used(self) -> int:
+        """
+        Rows that were not NaN.
+        """
+    @property
+    def status(self) -> nlosloc._core.core.CholeskyStatus:
+        """
+        Worst Cholesky outcome of the step.
+        """
+class Kf:
+    """
+    Linear Kalman filter y = H x + n, n ~ N(0, R).
+    """
+    def __init__(self, motion: typing.Any, H: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], R: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        """
+        motion: any motion model; H (m, n); R (m, m) SPD; initial belief N(mean, cov).
+        """
+    def predict(self) -> None:
+        """
+        Prediction x = F x, P = F P F^T + Q; time advances by dt.
+        """
+    def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex | None = None) -> None:
+        """
+        Replaces the belief (validated: finite mean, symmetric positive definite cov).
+        """
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> StepResult:
+        """
+        predict() then update(y).
+        """
+    def update(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> StepResult:
+        """
+        Update with y (m,), NaN = missing.
+        """
+    @property
+    def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Posterior covariance, shape (n, n).
+        """
+    @property
+    def dim(self) -> int:
+        ...
+    @property
+    def mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Posterior mean, shape (n,).
+        """
+    @property
+    def time(self) -> float:
+        """
+        Time of the belief (s).
+        """
+class Ekf:
+    """
+    Extended Kalman filter over a MeasurementStack (noise moments per sight).
+    """
+    def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    def predict(self) -> None:
+        """
+        Prediction x = F x, P = F P F^T + Q; time advances by dt.
+        """
+    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], sight: typing.Any = None) -> dict:
+        """
+        Runs step() over the rows of Y (T, m) in one call (GIL released). sight: None, (B,) or (T, B). Returns a dict with mean (T, n), cov (T, n, n), log_likelihood (T,), rows_used (T,).
+        """
+    def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex | None = None) -> None:
+        """
+        Replaces the belief (validated: finite mean, symmetric positive definite cov).
+        """
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
+        """
+        predict() then update(y, sight).
+        """
+    def update(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
+        """
+        Update with y (m,) (NaN = missing row) and optional sight (B,) ints (default all LOS). Returns a StepResult with the predictive log-likelihood.
+        """
+    @property
+    def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Posterior covariance, shape (n, n).
+        """
+    @property
+    def dim(self) -> int:
+        ...
+    @property
+    def mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Posterior mean, shape (n,).
+        """
+    @property
+    def measurements(self) -> nlosloc._core.models.MeasurementStack:
+        ...
+    @property
+    def time(self) -> float:
+        """
+        Time of the belief (s).
+        """
+class Ukf:
+    """
+    UKF with additive measurement noise (exact linear prediction; sigma points redrawn from the predicted belief for the update).
+    """
+    def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], scheme: nlosloc._core.core.SigmaScheme = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    def predict(self) -> None:
+        """
+        Prediction x = F x, P = F P F^T + Q; time advances by dt.
+        """
+    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], sight: typing.Any = None) -> dict:
+        """
+        Runs step() over the rows of Y (T, m) in one call (GIL released). sight: None, (B,) or (T, B). Returns a dict with mean (T, n), cov (T, n, n), log_likelihood (T,), rows_used (T,).
+        """
+    def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex | None = None) -> None:
+        """
+        Replaces the belief (validated: finite mean, symmetric positive definite cov).
+        """
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
+        """
+        predict() then update(y, sight).
+        """
+    def update(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
+        """
+        Update with y (m,) (NaN = missing row) and optional sight (B,) ints (default all LOS). Returns a StepResult with the predictive log-likelihood.
+        """
+    @property
+    def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Posterior covariance, shape (n, n).
+        """
+    @property
+    def dim(self) -> int:
+        ...
+    @property
+    def mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Posterior mean, shape (n,).
+        """
+    @property
+    def measurements(self) -> nlosloc._core.models.MeasurementStack:
+        ...
+    @property
+    def time(self) -> float:
+        """
+        Time of the belief (s).
+        """
+class UkfAugmented:
+    """
+    UKF with the measurement noise in the sigma points through each distribution's quantile map (Huerta Sec. V-A; Grisales eq. 29).
+    """
+    def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], scheme: nlosloc._core.core.SigmaScheme = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    def predict(self) -> None:
+        """
+        Prediction x = F x, P = F P F^T + Q; time advances by dt.
+        """
+    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], sight: typing.Any = None) -> dict:
+        """
+        Runs step() over the rows of Y (T, m) in one call (GIL released). sight: None, (B,) or (T, B). Returns a dict with mean (T, n), cov (T, n, n), log_likelihood (T,), rows_used (T,).
+        """
+    def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex | None = None) -> None:
+        """
+        Replaces the belief (validated: finite mean, symmetric positive definite cov).
+        """
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
+        """
+        predict() then update(y, sight).
+        """
+    def update(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
+        """
+        Update with y (m,) (NaN = missing row) and optional sight (B,) ints (default all LOS). Returns a StepResult with the predictive log-likelihood.
+        """
+    @property
+    def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Posterior covariance, shape (n, n).
+        """
+    @property
+    def dim(self) -> int:
+        ...
+    @property
+    def mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Posterior mean, shape (n,).
+        """
+    @property
+    def measurements(self) -> nlosloc._core.models.MeasurementStack:
+        ...
+    @property
+    def time(self) -> float:
+        """
+        Time of the belief (s).
+        """
