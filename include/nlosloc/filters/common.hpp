@@ -195,20 +195,33 @@ class UpdateTail {
     res.status = worse(res.status, st);
     res.jitter = std::max(res.jitter, jit);
     if (st == CholeskyStatus::kFailed) return false;
-    // K^T = S^-1 Pxz^T; x += K nu; P -= K S K^T = Pxz S^-1 Pxz^T.
-    Kt_ = Pxz.transpose();
+    // With W = L^-1 Pxz^T and w = L^-1 nu: x += K nu = W^T w, P -= K S K^T = Pxz S^-1 Pxz^T = W^T W.
+    // Plain loops: at m ~ 3..20 Eigen's dynamic-size expression set-up costs more than the arithmetic.
+    for (int c = 0; c < N; ++c)
+      for (Eigen::Index i = 0; i < m; ++i) Kt_(i, c) = Pxz(c, i);
     small_forward_inplace(L_, Kt_);
     w_ = nu;
-    small_forward_inplace(L_, w_);  // w = L^-1 nu, reused by the log-likelihood
-    // x += Pxz L^-T L^-1 nu = (L^-1 Pxz^T)^T w; P -= (L^-1 Pxz^T)^T (L^-1 Pxz^T).
-    x.noalias() += Kt_.transpose().lazyProduct(w_);
-    P.noalias() -= Kt_.transpose().lazyProduct(Kt_);
-    symmetrize(P);
+    small_forward_inplace(L_, w_);
+    for (int c = 0; c < N; ++c) {
+      double acc = 0.0;
+      for (Eigen::Index i = 0; i < m; ++i) acc += Kt_(i, c) * w_[i];
+      x[c] += acc;
+    }
+    for (int c = 0; c < N; ++c)
+      for (int r = c; r < N; ++r) {
+        double acc = 0.0;
+        for (Eigen::Index i = 0; i < m; ++i) acc += Kt_(i, r) * Kt_(i, c);
+        P(r, c) -= acc;
+        P(c, r) = P(r, c);  // W^T W is symmetric: keep P exactly symmetric
+      }
     // log N(nu; 0, S) over the used rows; padded rows have unit pivots and zero innovation.
-    double log_det = 0.0;
-    for (Eigen::Index i = 0; i < m; ++i) log_det += std::log(L_(i, i));
-    res.log_likelihood =
-        -0.5 * (static_cast<double>(used) * std::log(2.0 * kPi) + 2.0 * log_det + w_.squaredNorm());
+    double log_det = 0.0, quad = 0.0;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      log_det += std::log(L_(i, i));
+      quad += w_[i] * w_[i];
+    }
+    constexpr double kLog2Pi = 1.8378770664093454835606594728112;  // log(2 pi)
+    res.log_likelihood = -0.5 * (static_cast<double>(used) * kLog2Pi + 2.0 * log_det + quad);
     return true;
   }
 

@@ -53,7 +53,6 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
     const int m = meas.rows();
     tail_.resize(m);
     Z_.setZero(m, kPoints);
-    Zw_.setZero(m, kPoints);
     nmean_.setZero(m);
     R_.setZero(m, m);
     y_.setZero(m);
@@ -82,10 +81,7 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
     res.status = st;
     if (st == CholeskyStatus::kFailed) Base::fail("Ukf.update: P");
     sigma_points(this->x_, L, w_.gamma, X_);  // Huerta eq. (49)
-    for (int j = 0; j < kPoints; ++j) {
-      auto zj = Z_.col(j);
-      meas_.predict(X_.col(j), this->t_, zj);
-    }
+    meas_.predict_columns(X_, this->t_, Z_);
     auto& t = tail_;
     detail::sigma_mean(meas_, Z_, w_, t.zhat, tmp_);  // eq. (51)
     meas_.noise_moments(this->x_, s, nmean_, R_);
@@ -95,12 +91,20 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
       X_.col(j) -= this->x_;
     }
     meas_.wrap_residual_cols(Z_);
-    Zw_ = Z_;  // weighted deviations, so S and Pxz are single products (eq. 51)
-    Zw_.col(0) *= w_.wc0;
-    Zw_.rightCols(kPoints - 1) *= w_.wi;
+    // Weighted covariances (eq. 51) plus the additive noise, as plain loops over the small sizes.
     t.S = R_;
-    t.S.noalias() += Zw_.lazyProduct(Z_.transpose());
-    t.Pxz.noalias() = X_.lazyProduct(Zw_.transpose());
+    t.Pxz.setZero();
+    const Eigen::Index m = Z_.rows();
+    for (int j = 0; j < kPoints; ++j) {
+      const double wc = j == 0 ? w_.wc0 : w_.wi;
+      for (Eigen::Index b = 0; b < m; ++b) {
+        const double wz = wc * Z_(b, j);
+        for (Eigen::Index a = b; a < m; ++a) t.S(a, b) += Z_(a, j) * wz;
+        for (int c = 0; c < kDim; ++c) t.Pxz(c, b) += X_(c, j) * wz;
+      }
+    }
+    for (Eigen::Index b = 0; b < m; ++b)
+      for (Eigen::Index a = b + 1; a < m; ++a) t.S(b, a) = t.S(a, b);
     t.zhat += nmean_;
     if (!t.apply(
             y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
@@ -117,7 +121,7 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
   SigmaScheme scheme_;
   SigmaWeights w_;
   Mat<kDim, kPoints> X_;
-  MatX Z_, Zw_, R_;
+  MatX Z_, R_;
   VecX nmean_, y_, tmp_;
   VecXi los_;
   detail::UpdateTail<kDim> tail_;

@@ -185,6 +185,27 @@ class MeasurementStack {
     for (int i = 0; i < rows(); ++i) y[i] = g_row(x, t, i);
   }
 
+  /// g at every column of X (state x K) into the columns of Z (rows x K), row by row so range rows are
+  /// evaluated for all points at once (the sigma-point hot path of the UKF).
+  template <class DX, class DZ>
+  void predict_columns(const Eigen::MatrixBase<DX>& X, double t, Eigen::MatrixBase<DZ>& Z) const {
+    const int P = layout_.position;
+    const Eigen::Index K = X.cols();
+    for (int i = 0; i < rows(); ++i) {
+      const MeasurementRow& r = rows_[static_cast<std::size_t>(i)];
+      if (r.kind == RowKind::kToa || r.kind == RowKind::kRtoa) {  // ||p - q|| (+ tau), Table I
+        auto zi = Z.row(i);
+        zi = (X.row(P).array() - anchors_(r.anchor, 0)).square() +
+             (X.row(P + 1).array() - anchors_(r.anchor, 1)).square();
+        if (layout_.space_dim == 3) zi.array() += (X.row(P + 2).array() - anchors_(r.anchor, 2)).square();
+        zi = zi.array().sqrt();
+        if (r.kind == RowKind::kRtoa) zi += X.row(layout_.clock_bias);
+      } else {
+        for (Eigen::Index j = 0; j < K; ++j) Z(i, j) = g_row(X.col(j), t, i);
+      }
+    }
+  }
+
   /// Analytic Jacobian dg/dx (rows x state); J must be pre-sized.
   template <class DX, class DJ>
   void jacobian(const Eigen::MatrixBase<DX>& x, double t, Eigen::MatrixBase<DJ>& J) const {
