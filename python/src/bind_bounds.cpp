@@ -1,5 +1,22 @@
 /// \file bind_bounds.cpp
-/// nlosloc.bounds (being written; see bind.hpp).
-#include "bind.hpp"
+/// nlosloc.bounds: GCRB of Huerta et al. 2009, Appendix (eqs. 41-48).
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
 
-void bind_bounds(pybind11::module_& m) { (void)m; }
+#include "bind.hpp"
+#include "nlosloc/bounds/gcrb.hpp"
+
+namespace py = pybind11;
+using namespace nlosloc;
+
+void bind_bounds(py::module_& m) {
+  py::class_<bounds::GcrbResult>(m, "GcrbResult", "Information matrices and position bounds of gcrb_rtoa.")
+      .def_readonly("J", &bounds::GcrbResult::J, "(D+1, D+1) J = J_D + J_P, eq. (46).")
+      .def_readonly("J_data", &bounds::GcrbResult::J_data, "J_D = H Q^-1 H^T, eq. (43).")
+      .def_readonly("position_gcrb", &bounds::GcrbResult::position_gcrb, "(D, D) [J^-1]_p, eqs. (47)-(48).")
+      .def_readonly("position_crb", &bounds::GcrbResult::position_crb, "(D, D) [J_D^-1]_p, no prior.");
+  m.def("gcrb_rtoa", &bounds::gcrb_rtoa, py::arg("anchors"), py::arg("position"), py::arg("Q"),
+        py::arg("sigma_tau2"),
+        "GCRB of the position from RTOA with a clock prior of variance sigma_tau2 (inf: no prior). anchors "
+        "(B, D), position (D,), Q (B, B) SPD measurement covariance.");
+}

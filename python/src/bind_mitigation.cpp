@@ -1,5 +1,273 @@
 /// \file bind_mitigation.cpp
-/// nlosloc.mitigation (being written; see bind.hpp).
-#include "bind.hpp"
+/// nlosloc.mitigation: Ke & Wu 2011's box-QP adapter, Sec. 3 bias estimation, the proposed QP-bias EKF and
+/// the bias-augmented ("iterated NLOS") EKF, with the C++ names. Solvers are chosen by name ("proxsuite",
+/// the default, or "failing", a solver that never solves, to exercise the fallbacks).
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
-void bind_mitigation(pybind11::module_& m) { (void)m; }
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "bind.hpp"
+#include "nlosloc/mitigation/mitigation.hpp"
+
+namespace py = pybind11;
+using namespace nlosloc;
+using namespace nlosloc::mitigation;
+
+namespace {
+
+std::unique_ptr<BoxQp> solver_by_name(const std::string& name, int n, const BoxQpSettings& s) {
+  if (name == "proxsuite") return make_box_qp(n, s);
+  if (name == "failing") return std::make_unique<FailingBoxQp>(n);
+  throw std::invalid_argument("solver: expected 'proxsuite' or 'failing', got '" + name + "'");
+}
+
+Gaussian<4> to_belief4(const VecX& mean, const MatX& cov) {
+  nlosloc::detail::ensure_shape(mean, 4, 1, "mean");
+  nlosloc::detail::ensure_shape(cov, 4, 4, "cov");
+  return Gaussian<4>(mean, cov);
+}
+
+/// Row-major (T, M) batch of ranges.
+using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+}  // namespace
+
+void bind_mitigation(pybind11::module_& m) {
+  // ---- QP adapter ---------------------------------------------------------------------------------
+  py::enum_<QpStatus>(m, "QpStatus", "Outcome of BoxQp.solve.")
+      .value("Solved", QpStatus::kSolved)
+      .value("MaxIterations", QpStatus::kMaxIterations)
+      .value("PrimalInfeasible", QpStatus::kPrimalInfeasible)
+      .value("DualInfeasible", QpStatus::kDualInfeasible)
+      .value("Failed", QpStatus::kFailed);
+
+  py::class_<BoxQpSettings>(m, "BoxQpSettings", "Accuracy settings of the box-QP solvers (DESIGN.md).")
+      .def(py::init<>())
+      .def_readwrite("eps_abs", &BoxQpSettings::eps_abs, "Absolute residual tolerance (> 0).")
+      .def_readwrite("check_duality_gap", &BoxQpSettings::check_duality_gap, "Also require a small gap.")
+      .def_readwrite("eps_duality_gap_abs", &BoxQpSettings::eps_duality_gap_abs, "Duality-gap tolerance.")
+      .def_readwrite("max_iter", &BoxQpSettings::max_iter, "Iteration limit (>= 1).")
+      .def_readwrite("compute_preconditioner", &BoxQpSettings::compute_preconditioner,
+                     "Ruiz equilibration before each solve (off: problems are pre-scaled).");
+
+  py::class_<QpResult>(m, "QpResult", "What one BoxQp.solve reports; the minimiser is BoxQp.x.")
+      .def_readonly("status", &QpResult::status)
+      .def_readonly("iterations", &QpResult::iterations)
+      .def_readonly("objective", &QpResult::objective, "1/2 x^T H x + g^T x at x.")
+      .def("ok", &QpResult::ok, "True when solved.");
+
+  py::class_<BoxQp>(m, "BoxQp",
+                    "Box-constrained convex QP: minimise 1/2 x^T H x + g^T x, lower <= x <= upper (Ke & Wu "
+                    "eq. 14). Build one with make_box_qp(n) (proxsuite dense QP).")
+      .def_property_readonly("size", &BoxQp::size)
+      .def_property_readonly("name", &BoxQp::name)
+      .def(
+          "solve",
+          [](BoxQp& q, const MatX& H, const VecX& g, const VecX& lower, const VecX& upper) {
+            py::gil_scoped_release nogil;
+            return q.solve(H, g, lower, upper);
+          },
+          py::arg("H"), py::arg("g"), py::arg("lower"), py::arg("upper"),
+          "Solves the QP. H (n, n) symmetric PSD, g, lower, upper (n,), lower <= upper; returns QpResult.")
+      .def_property_readonly(
+          "x", [](const BoxQp& q) { return VecX(q.x()); }, "Minimiser of the last solve (n,).");
+  m.def(
+      "make_box_qp",
+      [](int n, const BoxQpSettings& s, const std::string& solver) { return solver_by_name(solver, n, s); },
+      py::arg("n"), py::arg("settings") = BoxQpSettings(), py::arg("solver") = "proxsuite",
+      "A BoxQp of n variables: solver 'proxsuite' (dense QP, default) or 'failing' (never solves).");
+  m.attr("have_default_box_qp") = have_default_box_qp();
+
+  // ---- Sec. 3 bias estimation ---------------------------------------------------------------------
+  py::enum_<ReferenceKind>(m, "ReferenceKind", "How the reference point X0 was obtained (Sec. 3).")
+      .value("FeasibleVertices", ReferenceKind::kFeasibleVertices)
+      .value("Hint", ReferenceKind::kHint)
+      .value("LeastSquares", ReferenceKind::kLeastSquares);
+  m.attr("FLAG_REFERENCE_FALLBACK") = static_cast<unsigned>(kFlagReferenceFallback);
+  m.attr("FLAG_BOUNDS_CLAMPED") = static_cast<unsigned>(kFlagBoundsClamped);
+  m.attr("FLAG_QP_FAILED") = static_cast<unsigned>(kFlagQpFailed);
+  m.attr("FLAG_DEGENERATE_GEOMETRY") = static_cast<unsigned>(kFlagDegenerateGeometry);
+  m.attr("FLAG_MISSING_ROWS") = static_cast<unsigned>(kFlagMissingRows);
+  m.attr("FLAG_UPDATE_REJECTED") = static_cast<unsigned>(kFlagUpdateRejected);
+
+  py::class_<RangeNoise>(m, "RangeNoise", "Range noise std_i = sigma0 + relative * d_i (m).")
+      .def(py::init([](double sigma0, double relative, double min_std) {
+             RangeNoise n{sigma0, relative, min_std};
+             n.validate("RangeNoise");
+             return n;
+           }),
+           py::arg("sigma0") = 50.0, py::arg("relative") = 0.0, py::arg("min_std") = 1e-3)
+      .def_readwrite("sigma0", &RangeNoise::sigma0)
+      .def_readwrite("relative", &RangeNoise::relative)
+      .def_readwrite("min_std", &RangeNoise::min_std)
+      .def("std_at", &RangeNoise::std_at, py::arg("d"), "Noise std at distance d (m).");
+
+  py::class_<ReferencePoint>(m, "ReferencePoint", "Reference point X0 of Sec. 3.")
+      .def_property_readonly("point", [](const ReferencePoint& r) { return VecX(r.point); })
+      .def_readonly("kind", &ReferencePoint::kind)
+      .def_readonly("vertices", &ReferencePoint::vertices);
+  m.def(
+      "reference_point",
+      [](const MatX& anchors, const VecX& z, std::optional<VecX> hint) {
+        nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
+        nlosloc::detail::ensure_shape(z, anchors.rows(), 1, "z");
+        if (!hint) return reference_point(anchors, z);
+        nlosloc::detail::ensure_shape(*hint, 2, 1, "hint");
+        const Vec<2> h = *hint;
+        return reference_point(anchors, z, &h);
+      },
+      py::arg("anchors"), py::arg("z"), py::arg("hint") = py::none(),
+      "Centre of the feasible region of the range discs (Ke & Wu Sec. 3): mean of the region's vertices; "
+      "without vertices, `hint` if given, else the least-squares range fit.");
+
+  py::class_<BiasEstimate>(m, "BiasEstimate", "Result of BiasEstimator.estimate (Sec. 3).")
+      .def_readonly("bias", &BiasEstimate::bias, "b^ of eq. (14) (M,), m.")
+      .def_readonly("lower", &BiasEstimate::lower, "Lower bounds (eq. 14).")
+      .def_readonly("upper", &BiasEstimate::upper, "Upper bounds (eq. 15, after the documented clamp).")
+      .def_readonly("reference", &BiasEstimate::reference)
+      .def_property_readonly(
+          "x_tilde", [](const BiasEstimate& e) { return VecX(e.x_tilde); }, "Eq. (11).")
+      .def_readonly("qp", &BiasEstimate::qp)
+      .def_readonly("flags", &BiasEstimate::flags, "FLAG_* bits of the fallbacks taken.");
+
+  py::class_<BiasEstimator>(m, "BiasEstimator", "Ke & Wu Sec. 3 NLOS bias estimation for fixed anchors.")
+      .def(py::init([](const MatX& anchors, const std::string& solver, const BoxQpSettings& s) {
+             nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
+             return std::make_unique<BiasEstimator>(
+                 anchors, solver_by_name(solver, static_cast<int>(anchors.rows()), s));
+           }),
+           py::arg("anchors"), py::arg("solver") = "proxsuite", py::arg("settings") = BoxQpSettings(),
+           "anchors (M, 2), M >= 3.")
+      .def(
+          "estimate",
+          [](BiasEstimator& e, const VecX& z, const VecX& variances, std::optional<VecX> hint) {
+            if (!hint) return e.estimate(z, variances);
+            nlosloc::detail::ensure_shape(*hint, 2, 1, "hint");
+            const Vec<2> h = *hint;
+            return e.estimate(z, variances, &h);
+          },
+          py::arg("z"), py::arg("variances"), py::arg("hint") = py::none(),
+          "Biases of ranges z (M,) with noise variances (M,) (eqs. 9-15); returns a BiasEstimate copy.")
+      .def_property("sparsity", &BiasEstimator::sparsity, &BiasEstimator::set_sparsity,
+                    "L1 tie-break weight added to eq. (14) (0 = plain eq. 14).")
+      .def_property_readonly("size", &BiasEstimator::size)
+      .def_property_readonly("anchors", &BiasEstimator::anchors)
+      .def_property_readonly("H0", &BiasEstimator::H0, "Eq. (10), (M, 2).")
+      .def_property_readonly("U", &BiasEstimator::U, "Eq. (11), (2, M).")
+      .def_property_readonly("L", &BiasEstimator::L, "Eq. (12), (M, M).")
+      .def_property_readonly("y", &BiasEstimator::y, "Eq. (9) linearised measurement.")
+      .def_property_readonly("r", &BiasEstimator::r, "Eq. (12) bias metric.")
+      .def_property_readonly("sigma_v", &BiasEstimator::sigma_v, "Eq. (13), L R L^T.")
+      .def_property_readonly("sigma_v_ginv", &BiasEstimator::sigma_v_ginv, "R^-1 L.")
+      .def_property_readonly("qp_hessian", &BiasEstimator::qp_hessian)
+      .def_property_readonly("qp_gradient", &BiasEstimator::qp_gradient);
+
+  // ---- trackers -------------------------------------------------------------------------------------
+  py::class_<QpBiasEkfOptions>(m, "QpBiasEkfOptions", "Options of QpBiasEkf.")
+      .def(py::init<>())
+      .def_readwrite("gamma", &QpBiasEkfOptions::gamma, "Scaling factor of eq. (32), >= 1.")
+      .def_readwrite("noise", &QpBiasEkfOptions::noise, "RangeNoise of R(k).")
+      .def_readwrite("mitigate", &QpBiasEkfOptions::mitigate, "False: plain EKF (eqs. 20-24).")
+      .def_readwrite("always_estimate", &QpBiasEkfOptions::always_estimate, "Run the QP every step.")
+      .def_readwrite("sparsity", &QpBiasEkfOptions::sparsity, "L1 tie-break of eq. (14).");
+
+  py::class_<MitigationStep>(m, "MitigationStep", "What one QpBiasEkf update reports.")
+      .def_readonly("filter", &MitigationStep::filter, "StepResult (log-likelihood, rows used, status).")
+      .def_readonly("nlos", &MitigationStep::nlos, "H1 of eq. (32).")
+      .def_readonly("bias_estimated", &MitigationStep::bias_estimated)
+      .def_readonly("innovation_sq", &MitigationStep::innovation_sq, "alpha^T alpha (eq. 31).")
+      .def_readonly("threshold", &MitigationStep::threshold, "gamma Tr[F P F^T + R] (eq. 32).")
+      .def_readonly("flags", &MitigationStep::flags);
+
+  py::class_<QpBiasEkf>(m, "QpBiasEkf",
+                        "Ke & Wu 2011 proposed tracker: EKF with QP-estimated NLOS biases (eq. 25) and the "
+                        "innovation test of eqs. (31)-(32). State [x, y, vx, vy].")
+      .def(py::init([](const ConstantVelocity2& motion, const MatX& anchors, const VecX& mean,
+                       const MatX& cov, const QpBiasEkfOptions& o, const std::string& solver, double t0) {
+             nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
+             return std::make_unique<QpBiasEkf>(
+                 motion, anchors, to_belief4(mean, cov), o,
+                 solver_by_name(solver, static_cast<int>(std::max<Eigen::Index>(anchors.rows(), 1)), {}), t0);
+           }),
+           py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
+           py::arg("options") = QpBiasEkfOptions(), py::arg("solver") = "proxsuite", py::arg("t0") = 0.0,
+           "motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4).")
+      .def("predict", &QpBiasEkf::predict, "Eqs. (20)-(21).")
+      .def("update", &QpBiasEkf::update, py::arg("z"), "Update with ranges z (M,), NaN = missing.")
+      .def("step", &QpBiasEkf::step, py::arg("z"), "predict() then update(z).")
+      .def(
+          "run",
+          [](QpBiasEkf& f, const RowMat& Z, bool first_is_update) {
+            RowMat X(Z.rows(), 4);
+            {
+              py::gil_scoped_release nogil;
+              for (Eigen::Index k = 0; k < Z.rows(); ++k) {
+                const VecX z = Z.row(k).transpose();
+                if (k == 0 && first_is_update) {
+                  f.update(z);
+                } else {
+                  f.step(z);
+                }
+                X.row(k) = f.mean().transpose();
+              }
+            }
+            return X;
+          },
+          py::arg("Z"), py::arg("first_is_update") = true,
+          "Runs over ranges Z (T, M); returns the means (T, 4). Row 0 is an update only by default.")
+      .def_property_readonly("mean", [](const QpBiasEkf& f) { return VecX(f.mean()); })
+      .def_property_readonly("cov", [](const QpBiasEkf& f) { return MatX(f.cov()); })
+      .def_property_readonly("time", &QpBiasEkf::time)
+      .def_property_readonly("bias", &QpBiasEkf::bias, "b^ of the last update (M,).")
+      .def_property_readonly("nlos_detected", &QpBiasEkf::nlos_detected)
+      .def_property_readonly("last_step", &QpBiasEkf::last_step)
+      .def_property_readonly("num_anchors", &QpBiasEkf::num_anchors)
+      .def_property_readonly("anchors", &QpBiasEkf::anchors)
+      .def_property_readonly("options", &QpBiasEkf::options)
+      .def(
+          "set_belief",
+          [](QpBiasEkf& f, const VecX& mean, const MatX& cov, double t) {
+            f.set_belief(to_belief4(mean, cov), t);
+          },
+          py::arg("mean"), py::arg("cov"), py::arg("t") = 0.0);
+
+  py::class_<BiasAugmentedEkfOptions>(m, "BiasAugmentedEkfOptions", "Options of BiasAugmentedEkf.")
+      .def(py::init<>())
+      .def_readwrite("noise", &BiasAugmentedEkfOptions::noise)
+      .def_readwrite("bias_prior_mean", &BiasAugmentedEkfOptions::bias_prior_mean)
+      .def_readwrite("bias_prior_std", &BiasAugmentedEkfOptions::bias_prior_std)
+      .def_readwrite("bias_walk_std", &BiasAugmentedEkfOptions::bias_walk_std)
+      .def_readwrite("iterations", &BiasAugmentedEkfOptions::iterations)
+      .def_readwrite("nonnegative", &BiasAugmentedEkfOptions::nonnegative);
+
+  py::class_<BiasAugmentedEkf>(m, "BiasAugmentedEkf",
+                               "Iterated NLOS EKF (Najar & Vidal 2003, Ke & Wu Sec. 1): state [x, y, vx, vy, "
+                               "b_1..b_M], iterated EKF update.")
+      .def(py::init([](const ConstantVelocity2& motion, const MatX& anchors, const VecX& mean,
+                       const MatX& cov, const BiasAugmentedEkfOptions& o, double t0) {
+             return BiasAugmentedEkf(motion, anchors, to_belief4(mean, cov), o, t0);
+           }),
+           py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
+           py::arg("options") = BiasAugmentedEkfOptions(), py::arg("t0") = 0.0)
+      .def("predict", &BiasAugmentedEkf::predict)
+      .def("update", &BiasAugmentedEkf::update, py::arg("z"))
+      .def("step", &BiasAugmentedEkf::step, py::arg("z"))
+      .def_property_readonly("mean", &BiasAugmentedEkf::mean, "[x, y, vx, vy, b_1..b_M].")
+      .def_property_readonly("cov", &BiasAugmentedEkf::cov)
+      .def_property_readonly("kinematic_mean",
+                             [](const BiasAugmentedEkf& f) { return VecX(f.kinematic_mean()); })
+      .def_property_readonly("bias", &BiasAugmentedEkf::bias)
+      .def_property_readonly("time", &BiasAugmentedEkf::time)
+      .def_property_readonly("state_dim", &BiasAugmentedEkf::state_dim)
+      .def(
+          "set_belief",
+          [](BiasAugmentedEkf& f, const VecX& mean, const MatX& cov, double t) {
+            f.set_belief(to_belief4(mean, cov), t);
+          },
+          py::arg("mean"), py::arg("cov"), py::arg("t") = 0.0);
+}

@@ -1,5 +1,396 @@
 /// \file bind_rbpf.cpp
-/// nlosloc.rbpf (being written; see bind.hpp).
-#include "bind.hpp"
+/// nlosloc.rbpf: Rao-Blackwellized particle filters (Huerta Tables IV and V) with merge/select, the joint
+/// particle filter, the merge and resampling helpers, and the IUKF (Table VI; exposed here as
+/// nlosloc.rbpf.Iukf because it needs the situation types). The C++ filters are templates over the motion
+/// model; each Python class holds a std::variant over the motion models (type erasure at the filter level).
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
-void bind_rbpf(pybind11::module_& m) { (void)m; }
+#include <memory>
+#include <variant>
+
+#include "bind.hpp"
+#include "nlosloc/filters/iukf.hpp"
+#include "nlosloc/rbpf/pf.hpp"
+#include "nlosloc/rbpf/rbpf.hpp"
+
+namespace py = pybind11;
+using namespace nlosloc;
+using namespace nlosloc::rbpf;
+using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+namespace {
+using AnyMotion = std::variant<ConstantVelocity2, ConstantVelocity3, ConstantVelocityClock2,
+                               ConstantVelocityClock3, TwoWayClock>;
+
+AnyMotion to_motion(const py::object& o) {
+  if (py::isinstance<ConstantVelocity2>(o)) return o.cast<ConstantVelocity2>();
+  if (py::isinstance<ConstantVelocity3>(o)) return o.cast<ConstantVelocity3>();
+  if (py::isinstance<ConstantVelocityClock2>(o)) return o.cast<ConstantVelocityClock2>();
+  if (py::isinstance<ConstantVelocityClock3>(o)) return o.cast<ConstantVelocityClock3>();
+  if (py::isinstance<TwoWayClock>(o)) return o.cast<TwoWayClock>();
+  throw std::invalid_argument(
+      "motion: expected ConstantVelocity2, ConstantVelocity3, ConstantVelocityClock2, ConstantVelocityClock3 "
+      "or "
+      "TwoWayClock, got " +
+      std::string(py::str(py::type::of(o).attr("__name__"))));
+}
+
+template <int N>
+Gaussian<N> to_gaussian(const VecX& mean, const MatX& cov) {
+  detail::ensure_shape(mean, N, 1, "mean");
+  detail::ensure_shape(cov, N, N, "cov");
+  return Gaussian<N>(mean, cov);
+}
+
+/// A (non-copyable) filter F<Motion> for any motion model, owned through unique_ptr.
+template <template <class> class F>
+class Any {
+ public:
+  template <class Make>
+  Any(const py::object& motion, Make&& make)
+      : f_(std::visit([&](const auto& mo) -> V { return make(mo); }, to_motion(motion))) {}
+  template <class Fn>
+  decltype(auto) visit(Fn&& fn) {
+    return std::visit([&](auto& p) -> decltype(auto) { return fn(*p); }, f_);
+  }
+  template <class Fn>
+  decltype(auto) visit(Fn&& fn) const {
+    return std::visit([&](const auto& p) -> decltype(auto) { return fn(*p); }, f_);
+  }
+
+ private:
+  using V = std::variant<std::unique_ptr<F<ConstantVelocity2>>, std::unique_ptr<F<ConstantVelocity3>>,
+                         std::unique_ptr<F<ConstantVelocityClock2>>,
+                         std::unique_ptr<F<ConstantVelocityClock3>>, std::unique_ptr<F<TwoWayClock>>>;
+  V f_;
+};
+
+template <class M>
+using RbpfT = Rbpf<M>;
+template <class M>
+using PfT = ParticleFilter<M>;
+template <class M>
+using IukfT = Iukf<M>;
+
+/// Runs f.step over the rows of Y, O (GIL released); returns the per-step estimates.
+template <class A, class Step>
+py::dict run_batch(A& a, const Eigen::Ref<const RowMat>& Y, const Eigen::Ref<const RowMat>& O, Step&& step) {
+  NLOSLOC_ENSURE(Y.rows() == O.rows(), "Y, O: expected the same number of steps (rows)");
+  const Eigen::Index T = Y.rows();
+  int n = 0, B = 0, nz = 0;
+  a.visit([&](auto& f) {
+    n = static_cast<int>(f.estimate().size());
+    B = static_cast<int>(f.situation_probabilities().rows());
+    nz = static_cast<int>(f.situation_probabilities().cols());
+  });
+  py::array_t<double> mean({static_cast<py::ssize_t>(T), static_cast<py::ssize_t>(n)});
+  py::array_t<double> cov(
+      {static_cast<py::ssize_t>(T), static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(n)});
+  py::array_t<double> prob(
+      {static_cast<py::ssize_t>(T), static_cast<py::ssize_t>(B), static_cast<py::ssize_t>(nz)});
+  py::array_t<double> ll(static_cast<py::ssize_t>(T));
+  auto mm = mean.mutable_unchecked<2>();
+  auto cm = cov.mutable_unchecked<3>();
+  auto pm = prob.mutable_unchecked<3>();
+  auto lm = ll.mutable_unchecked<1>();
+  {
+    py::gil_scoped_release release;
+    a.visit([&](auto& f) {
+      for (Eigen::Index t = 0; t < T; ++t) {
+        lm(t) = step(f, VecX(Y.row(t).transpose()), VecX(O.row(t).transpose()));
+        for (int i = 0; i < n; ++i) {
+          mm(t, i) = f.estimate()(i);
+          for (int j = 0; j < n; ++j) cm(t, i, j) = f.covariance()(i, j);
+        }
+        for (int b = 0; b < B; ++b)
+          for (int z = 0; z < nz; ++z) pm(t, b, z) = f.situation_probabilities()(b, z);
+      }
+    });
+  }
+  py::dict d;
+  d["mean"] = mean;
+  d["cov"] = cov;
+  d["situation_probabilities"] = prob;
+  d["log_likelihood"] = ll;
+  return d;
+}
+
+/// Accessors shared by the RBPF, the PF and the IUKF wrappers.
+template <class A, class C>
+void summary_methods(C& c) {
+  c.def_property_readonly(
+       "estimate", [](const A& a) { return a.visit([](const auto& f) { return VecX(f.estimate()); }); },
+       "State estimate (n,) (Huerta eq. 28 for the RBPF).")
+      .def_property_readonly(
+          "covariance",
+          [](const A& a) { return a.visit([](const auto& f) { return MatX(f.covariance()); }); },
+          "Covariance (n, n) of the posterior (moment-matched mixture, eq. 27).")
+      .def_property_readonly(
+          "situation_probabilities",
+          [](const A& a) { return a.visit([](const auto& f) { return MatX(f.situation_probabilities()); }); },
+          "(B, N_z) P(s_b = z | data).")
+      .def(
+          "sight_estimate",
+          [](const A& a) { return a.visit([](const auto& f) { return VecXi(f.sight_estimate()); }); },
+          "Most probable condition per anchor (B,).");
+}
+
+// Adapters giving the IUKF the same accessor names as the particle filters.
+template <class M>
+struct IukfBox : Iukf<M> {
+  using Iukf<M>::Iukf;
+  VecX estimate() const { return this->mean(); }
+  MatX covariance() const { return this->cov(); }
+  const MatX& situation_probabilities() const { return this->forward().probabilities(); }
+};
+template <class M>
+using IukfBoxT = IukfBox<M>;
+}  // namespace
+
+void bind_rbpf(py::module_& m) {
+  py::enum_<RbpfVariant>(m, "RbpfVariant", "Order of the RBPF iteration.")
+      .value("Classical", RbpfVariant::kClassical, "Table IV: a UKF for every child")
+      .value("Reordered", RbpfVariant::kReordered, "Table V: merge/select first, M UKFs");
+  py::enum_<PfResampling>(m, "PfResampling", "Selection step of the joint PF.")
+      .value("Systematic", PfResampling::kSystematic, "systematic resampling when ESS < threshold M")
+      .value("MergeSelect", PfResampling::kMergeSelect,
+             "bucketed merge (eqs. 29-30) then systematic resampling");
+
+  py::class_<RbpfOptions>(m, "RbpfOptions", "Settings of Rbpf.")
+      .def(py::init<>())
+      .def(py::init([](RbpfVariant variant, int num_particles, std::uint64_t max_offspring, bool merge,
+                       double merge_threshold, int threads, const SigmaScheme& scheme) {
+             return RbpfOptions{variant,         num_particles, max_offspring, merge,
+                                merge_threshold, threads,       scheme};
+           }),
+           py::arg("variant") = RbpfVariant::kReordered, py::arg("num_particles") = 16,
+           py::arg("max_offspring") = 4096, py::arg("merge") = true, py::arg("merge_threshold") = -1.0,
+           py::arg("threads") = 1, py::arg("scheme") = SigmaScheme::scaled())
+      .def_readwrite("variant", &RbpfOptions::variant)
+      .def_readwrite("num_particles", &RbpfOptions::num_particles, "M, particles propagated (>= 1).")
+      .def_readwrite("max_offspring", &RbpfOptions::max_offspring,
+                     "Children per particle; above N_z^B the best ones by prior x quality (bounded).")
+      .def_readwrite("merge", &RbpfOptions::merge)
+      .def_readwrite("merge_threshold", &RbpfOptions::merge_threshold, "d_min; negative: eq. (31).")
+      .def_readwrite("threads", &RbpfOptions::threads)
+      .def_readwrite("scheme", &RbpfOptions::scheme);
+
+  py::class_<RbpfStepInfo>(m, "RbpfStepInfo", "What one RBPF step reports.")
+      .def_readonly("log_likelihood", &RbpfStepInfo::log_likelihood)
+      .def_readonly("offspring", &RbpfStepInfo::offspring)
+      .def_readonly("ukf_runs", &RbpfStepInfo::ukf_runs)
+      .def_readonly("merged", &RbpfStepInfo::merged)
+      .def_readonly("failures", &RbpfStepInfo::failures)
+      .def_readonly("merge_threshold", &RbpfStepInfo::merge_threshold)
+      .def_readonly("status", &RbpfStepInfo::status);
+
+  py::class_<PfOptions>(m, "PfOptions", "Settings of ParticleFilter.")
+      .def(py::init<>())
+      .def(py::init([](int num_particles, PfResampling resampling, double ess_threshold,
+                       double merge_threshold, int threads, std::uint64_t seed) {
+             return PfOptions{num_particles, resampling, ess_threshold, merge_threshold, threads, seed};
+           }),
+           py::arg("num_particles") = 10000, py::arg("resampling") = PfResampling::kSystematic,
+           py::arg("ess_threshold") = 0.5, py::arg("merge_threshold") = -1.0, py::arg("threads") = 1,
+           py::arg("seed") = 0)
+      .def_readwrite("num_particles", &PfOptions::num_particles)
+      .def_readwrite("resampling", &PfOptions::resampling)
+      .def_readwrite("ess_threshold", &PfOptions::ess_threshold)
+      .def_readwrite("merge_threshold", &PfOptions::merge_threshold)
+      .def_readwrite("threads", &PfOptions::threads)
+      .def_readwrite("seed", &PfOptions::seed);
+
+  py::class_<PfStepInfo>(m, "PfStepInfo", "What one PF step reports.")
+      .def_readonly("log_likelihood", &PfStepInfo::log_likelihood)
+      .def_readonly("ess", &PfStepInfo::ess)
+      .def_readonly("resampled", &PfStepInfo::resampled)
+      .def_readonly("merged", &PfStepInfo::merged);
+
+  {
+    using A = Any<RbpfT>;
+    py::class_<A> c(m, "Rbpf",
+                    "Rao-Blackwellized particle filter with UKF bank and merge/select (Huerta Sec. V-A/B).");
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
+                      const situation::SightProcess& sight, const situation::QualityModel& quality,
+                      const VecX& mean, const MatX& cov, const RbpfOptions& options, double t0) {
+            return A(motion, [&](const auto& mo) {
+              using Mo = std::decay_t<decltype(mo)>;
+              return std::make_unique<Rbpf<Mo>>(mo, meas, sight, quality, to_gaussian<Mo::kDim>(mean, cov),
+                                                options, t0);
+            });
+          }),
+          py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
+          py::arg("cov"), py::arg("options") = RbpfOptions(), py::arg("t0") = 0.0);
+    summary_methods<A>(c);
+    c.def(
+         "step",
+         [](A& a, const VecX& y, const VecX& o) {
+           py::gil_scoped_release rel;
+           return a.visit([&](auto& f) { return f.step(y, o); });
+         },
+         py::arg("y"), py::arg("o"), "One iteration with measurements y (m,) and quality statistics o (B,).")
+        .def(
+            "run",
+            [](A& a, const Eigen::Ref<const RowMat>& Y, const Eigen::Ref<const RowMat>& O) {
+              return run_batch(
+                  a, Y, O, [](auto& f, const VecX& y, const VecX& o) { return f.step(y, o).log_likelihood; });
+            },
+            py::arg("Y"), py::arg("O"),
+            "step() over the rows of Y (T, m) and O (T, B), GIL released. Returns a dict of mean (T, n), cov "
+            "(T, n, n), situation_probabilities (T, B, N_z), log_likelihood (T,).")
+        .def(
+            "reset",
+            [](A& a, const VecX& mean, const MatX& cov, double t0) {
+              a.visit([&](auto& f) {
+                constexpr int N = std::decay_t<decltype(f)>::N;
+                f.reset(to_gaussian<N>(mean, cov), t0);
+              });
+            },
+            py::arg("mean"), py::arg("cov"), py::arg("t0") = 0.0)
+        .def_property_readonly(
+            "num_particles",
+            [](const A& a) { return a.visit([](const auto& f) { return f.num_particles(); }); })
+        .def_property_readonly("weights",
+                               [](const A& a) { return a.visit([](const auto& f) { return f.weights(); }); })
+        .def(
+            "particle_mean",
+            [](const A& a, int i) {
+              return a.visit([&](const auto& f) { return VecX(f.particle_mean(i)); });
+            },
+            py::arg("i"))
+        .def(
+            "particle_cov",
+            [](const A& a, int i) { return a.visit([&](const auto& f) { return MatX(f.particle_cov(i)); }); },
+            py::arg("i"))
+        .def(
+            "particle_situation",
+            [](const A& a, int i) { return a.visit([&](const auto& f) { return f.particle_situation(i); }); },
+            py::arg("i"))
+        .def_property_readonly(
+            "children_per_particle",
+            [](const A& a) { return a.visit([](const auto& f) { return f.children_per_particle(); }); })
+        .def_property_readonly("time",
+                               [](const A& a) { return a.visit([](const auto& f) { return f.time(); }); });
+  }
+  {
+    using A = Any<PfT>;
+    py::class_<A> c(m, "ParticleFilter",
+                    "Joint bootstrap particle filter over (x, s) (Huerta Sec. VI-B, PF).");
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
+                      const situation::SightProcess& sight, const situation::QualityModel& quality,
+                      const VecX& mean, const MatX& cov, const PfOptions& options, double t0) {
+            return A(motion, [&](const auto& mo) {
+              using Mo = std::decay_t<decltype(mo)>;
+              return std::make_unique<ParticleFilter<Mo>>(mo, meas, sight, quality,
+                                                          to_gaussian<Mo::kDim>(mean, cov), options, t0);
+            });
+          }),
+          py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
+          py::arg("cov"), py::arg("options") = PfOptions(), py::arg("t0") = 0.0);
+    summary_methods<A>(c);
+    c.def(
+         "step",
+         [](A& a, const VecX& y, const VecX& o) {
+           py::gil_scoped_release rel;
+           return a.visit([&](auto& f) { return f.step(y, o); });
+         },
+         py::arg("y"), py::arg("o"))
+        .def(
+            "run",
+            [](A& a, const Eigen::Ref<const RowMat>& Y, const Eigen::Ref<const RowMat>& O) {
+              return run_batch(
+                  a, Y, O, [](auto& f, const VecX& y, const VecX& o) { return f.step(y, o).log_likelihood; });
+            },
+            py::arg("Y"), py::arg("O"), "As Rbpf.run.")
+        .def_property_readonly(
+            "particles", [](const A& a) { return a.visit([](const auto& f) { return f.particles(); }); },
+            "(n, M) particle states (a copy).")
+        .def_property_readonly(
+            "situations", [](const A& a) { return a.visit([](const auto& f) { return f.situations(); }); })
+        .def_property_readonly(
+            "log_weights",
+            [](const A& a) { return a.visit([](const auto& f) { return VecX(f.log_weights()); }); })
+        .def_property_readonly("num_particles", [](const A& a) {
+          return a.visit([](const auto& f) { return f.num_particles(); });
+        });
+  }
+  {
+    using A = Any<IukfBoxT>;
+    py::class_<A> c(
+        m, "Iukf",
+        "Improved UKF (Huerta Table VI, N_z conditions as Grisales eqs. 36-37): per-anchor forward filter "
+        "on the quality statistics, one noise set per condition weighted by its probabilities.");
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
+                      const situation::SightProcess& sight, const situation::QualityModel& quality,
+                      const VecX& mean, const MatX& cov, const SigmaScheme& scheme, double t0) {
+            return A(motion, [&](const auto& mo) {
+              using Mo = std::decay_t<decltype(mo)>;
+              return std::make_unique<IukfBox<Mo>>(mo, meas, to_gaussian<Mo::kDim>(mean, cov),
+                                                   situation::ForwardFilter(sight, quality), scheme, t0);
+            });
+          }),
+          py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
+          py::arg("cov"), py::arg("scheme") = SigmaScheme::scaled(), py::arg("t0") = 0.0);
+    summary_methods<A>(c);
+    c.def(
+         "step",
+         [](A& a, const VecX& y, const VecX& o) {
+           return a.visit([&](auto& f) { return f.step_quality(y, o); });
+         },
+         py::arg("y"), py::arg("o"),
+         "predict, forward filter with o (B,), update with y (m,). Returns a StepResult.")
+        .def("predict", [](A& a) { a.visit([](auto& f) { f.predict(); }); })
+        .def(
+            "update_with_probabilities",
+            [](A& a, const VecX& y, const MatX& gamma) {
+              return a.visit([&](auto& f) { return f.update_with_probabilities(y, gamma); });
+            },
+            py::arg("y"), py::arg("gamma"), "Update with explicit (B, N_z) condition probabilities.")
+        .def(
+            "run",
+            [](A& a, const Eigen::Ref<const RowMat>& Y, const Eigen::Ref<const RowMat>& O) {
+              return run_batch(a, Y, O, [](auto& f, const VecX& y, const VecX& o) {
+                return f.step_quality(y, o).log_likelihood;
+              });
+            },
+            py::arg("Y"), py::arg("O"), "As Rbpf.run.")
+        .def_property_readonly(
+            "mean", [](const A& a) { return a.visit([](const auto& f) { return VecX(f.mean()); }); })
+        .def_property_readonly(
+            "cov", [](const A& a) { return a.visit([](const auto& f) { return MatX(f.cov()); }); });
+  }
+
+  m.def("default_merge_threshold", &default_merge_threshold, py::arg("position_variance"),
+        py::arg("num_particles"), "d_min = sigma^2 / (10 M), Huerta eq. (31).");
+  m.def(
+      "merge",
+      [](const std::vector<std::uint64_t>& keys, const MatX& means, VecX logw, double d_min) {
+        NLOSLOC_ENSURE(
+            static_cast<Eigen::Index>(keys.size()) == means.cols() && logw.size() == means.cols(),
+            "keys, means, logw: expected one key, one mean column and one log weight per particle");
+        MergeWorkspace ws;
+        const int n = merge_greedy(
+            keys.data(), logw.data(), static_cast<int>(keys.size()),
+            [&](int a, int b) { return (means.col(a) - means.col(b)).norm() < d_min; }, ws);
+        return py::make_tuple(logw, n);
+      },
+      py::arg("keys"), py::arg("means"), py::arg("logw"), py::arg("d_min"),
+      "Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, "
+      "number absorbed).");
+  m.def(
+      "systematic_resample",
+      [](const VecX& w, int M, double u0) {
+        NLOSLOC_ENSURE(w.size() >= 1 && M >= 1, "w, M: expected at least one weight and M >= 1");
+        NLOSLOC_ENSURE(u0 > 0.0 && u0 < 1.0, "u0: expected a value in (0, 1)");
+        std::vector<int> out(static_cast<std::size_t>(M));
+        systematic_resample(w, static_cast<int>(w.size()), M, u0, out.data());
+        return out;
+      },
+      py::arg("w"), py::arg("M"), py::arg("u0"), "Ancestor indices of systematic resampling (normalised w).");
+  m.def(
+      "situation_count", [](int nz, int B) { return situation_count(nz, B); }, py::arg("num_conditions"),
+      py::arg("num_anchors"), "N_z^B (0 when above 2^62).");
+}

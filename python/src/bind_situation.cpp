@@ -1,5 +1,117 @@
 /// \file bind_situation.cpp
-/// nlosloc.situation (being written; see bind.hpp).
-#include "bind.hpp"
+/// nlosloc.situation: sight Markov models (Huerta eqs. 9-18, Grisales eq. 16), quality-statistic
+/// likelihoods and the per-anchor forward filter (Huerta eqs. 35-38).
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
-void bind_situation(pybind11::module_& m) { (void)m; }
+#include "bind.hpp"
+#include "nlosloc/situation/forward.hpp"
+#include "nlosloc/situation/markov.hpp"
+#include "nlosloc/situation/quality.hpp"
+
+namespace py = pybind11;
+using namespace nlosloc;
+using namespace nlosloc::situation;
+
+void bind_situation(py::module_& m) {
+  py::enum_<SpeedModel>(m, "SpeedModel", "Form of the speed-dependent two-state chain.")
+      .value("Single", SpeedModel::kSingle, "Huerta eq. (15): at most one change per interval")
+      .value("Multiple", SpeedModel::kMultiple, "Huerta eq. (17): any number of changes per interval")
+      .value("Memoryless", SpeedModel::kMemoryless, "Huerta eq. (18): rows (p_L, p_N)");
+
+  m.def(
+      "transversal_speed",
+      [](const VecX& p, const VecX& v, const VecX& q) {
+        NLOSLOC_ENSURE(p.size() == v.size() && p.size() == q.size(),
+                       "p, v, q: expected vectors of the same size");
+        return transversal_speed(p, v, q);
+      },
+      py::arg("p"), py::arg("v"), py::arg("q"),
+      "Transversal speed of a mobile at p with velocity v w.r.t. an anchor at q (Huerta eq. 10), m/s.");
+  m.def("speed_transition_single", &speed_transition_single, py::arg("w"), py::arg("dt"), py::arg("mean_los"),
+        py::arg("mean_nlos"), "2x2 [LOS, NLOS] transition matrix of Huerta eq. (15).");
+  m.def("speed_transition_multiple", &speed_transition_multiple, py::arg("w"), py::arg("dt"),
+        py::arg("mean_los"), py::arg("mean_nlos"), "2x2 transition matrix of Huerta eq. (17).");
+  m.def("speed_transition_memoryless", &speed_transition_memoryless, py::arg("mean_los"),
+        py::arg("mean_nlos"), "2x2 memoryless matrix of Huerta eq. (18), rows (p_L, p_N).");
+
+  py::class_<SightModel>(m, "SightModel",
+                         "Sight chain of one anchor: fixed N_z x N_z or speed-dependent LOS/NLOS.")
+      .def_static(
+          "fixed", &SightModel::fixed, py::arg("transition"), py::arg("k_sight") = 1,
+          py::arg("initial") = VecX(),
+          "Fixed row-stochastic matrix (N_z, N_z); changes only every k_sight steps (Grisales eq. 16). "
+          "initial (N_z,) prior of s_0, empty: stationary distribution.")
+      .def_static(
+          "speed_dependent",
+          static_cast<SightModel (*)(double, double, double, SpeedModel, const VecX&)>(
+              &SightModel::speed_dependent),
+          py::arg("mean_los"), py::arg("mean_nlos"), py::arg("dt"), py::arg("form") = SpeedModel::kMultiple,
+          py::arg("initial") = VecX(),
+          "LOS/NLOS chain from the transversal speed (Huerta eqs. 14-18); mean lengths in m, dt in s.")
+      .def_property_readonly("num_conditions", &SightModel::num_conditions)
+      .def_property_readonly("is_speed_dependent",
+                             static_cast<bool (SightModel::*)() const>(&SightModel::speed_dependent))
+      .def_property_readonly("k_sight", &SightModel::k_sight)
+      .def_property_readonly("base_matrix", &SightModel::base_matrix)
+      .def_property_readonly("initial", &SightModel::initial)
+      .def("is_change_step", &SightModel::is_change_step, py::arg("k"))
+      .def(
+          "transition", [](const SightModel& s, long k, double w) { return s.transition(k, w); },
+          py::arg("k"), py::arg("w") = 0.0,
+          "Transition matrix of the step k-1 -> k at transversal speed w (m/s).")
+      .def("sample_next", &SightModel::sample_next, py::arg("current"), py::arg("k"), py::arg("w"),
+           py::arg("rng"), "Draws s_k given s_{k-1} = current.")
+      .def("sample_initial", &SightModel::sample_initial, py::arg("rng"));
+
+  py::class_<SightProcess>(m, "SightProcess", "Independent sight chains of B anchors (Huerta eq. 9).")
+      .def(py::init<std::vector<SightModel>>(), py::arg("models"))
+      .def(py::init<const SightModel&, int>(), py::arg("model"), py::arg("num_anchors"))
+      .def_property_readonly("num_anchors", &SightProcess::num_anchors)
+      .def_property_readonly("num_conditions", &SightProcess::num_conditions)
+      .def_property_readonly("is_speed_dependent", &SightProcess::speed_dependent)
+      .def("model", &SightProcess::model, py::arg("b"))
+      .def("sample_initial", &SightProcess::sample_initial, py::arg("rng"))
+      .def("sample_next", &SightProcess::sample_next, py::arg("current"), py::arg("k"), py::arg("speeds"),
+           py::arg("rng"),
+           "Draws s_k (B,) from s_{k-1}; speeds (B,) transversal speeds (may be empty if unused).")
+      .def("log_transition", &SightProcess::log_transition, py::arg("from"), py::arg("to"), py::arg("k"),
+           py::arg("speeds"), "log p(s_k = to | s_{k-1} = from), eq. (9).");
+
+  py::class_<QualityModel>(m, "QualityModel",
+                           "Quality-statistic likelihoods p(o | s = z), one distribution per z.")
+      .def(py::init<std::vector<noise::Distribution>>(), py::arg("per_condition"))
+      .def_property_readonly("num_conditions", &QualityModel::num_conditions)
+      .def("distribution", &QualityModel::distribution, py::arg("z"))
+      .def(
+          "log_likelihood", [](const QualityModel& q, double o, int z) { return q.log_likelihood(o, z); },
+          py::arg("o"), py::arg("z"), "log p(o | s = z); 0 for NaN (missing).")
+      .def(
+          "log_likelihood_table",
+          [](const QualityModel& q, const VecX& o) {
+            MatX out;
+            q.log_likelihood_table(o, out);
+            return out;
+          },
+          py::arg("o"), "(B, N_z) table of log p(o_b | s_b = z).")
+      .def(
+          "sample", [](const QualityModel& q, const VecXi& s, Rng& rng) { return q.sample(s, rng); },
+          py::arg("s"), py::arg("rng"), "One statistic per anchor for situation s (B,).");
+
+  py::class_<ForwardFilter>(m, "ForwardFilter",
+                            "Per-anchor HMM forward filter of the sight (Huerta eqs. 35-38).")
+      .def(py::init<SightProcess, QualityModel>(), py::arg("process"), py::arg("quality"))
+      .def_property_readonly("num_anchors", &ForwardFilter::num_anchors)
+      .def_property_readonly("num_conditions", &ForwardFilter::num_conditions)
+      .def_property_readonly("step_index", &ForwardFilter::step_index)
+      .def("reset", &ForwardFilter::reset)
+      .def("set_probabilities", &ForwardFilter::set_probabilities, py::arg("gamma"))
+      .def("predict", &ForwardFilter::predict, py::arg("speeds") = VecX(), "Prediction, eq. (36).")
+      .def("update", &ForwardFilter::update, py::arg("o"),
+           "Update with o (B,) (NaN = missing), eqs. (37)-(38); returns log p(o_t | o_1:t-1).")
+      .def("step", &ForwardFilter::step, py::arg("o"), py::arg("speeds") = VecX())
+      .def_property_readonly("probabilities", &ForwardFilter::probabilities, "(B, N_z) P(s_b = z | o_b,1:t).")
+      .def_property_readonly("predicted", &ForwardFilter::predicted)
+      .def("argmax", &ForwardFilter::argmax);
+}

@@ -3,7 +3,11 @@
 /// The built-in registry of scenarios and estimators used by nlosloc-bench and the Python bindings.
 /// Adding a scenario is one register_<name>(r) line here; adding an estimator to a scenario is one
 /// r.add_estimator<Scenario>(...) line in that scenario's register function.
+#include "nlosloc/sim/h1.hpp"
+#include "nlosloc/sim/h2.hpp"
 #include "nlosloc/sim/k1.hpp"
+#include "nlosloc/sim/k2.hpp"
+#include "nlosloc/sim/k3.hpp"
 #include "nlosloc/sim/scenario.hpp"
 
 namespace nlosloc::sim {
@@ -13,6 +17,10 @@ inline const Registry& registry() {
   static const Registry r = [] {
     Registry reg;
     register_k1(reg);  // Ke & Wu 2011 Sec. 6.1
+    register_k2(reg);  // Ke & Wu 2011 Sec. 6.2
+    register_k3(reg);  // Ke & Wu 2011 Sec. 6.4
+    register_h1(reg);  // Huerta et al. 2009 Sec. VI-A
+    register_h2(reg);  // Huerta et al. 2009 Sec. VI-B
     return reg;
   }();
   return r;

@@ -95,9 +95,17 @@ inline std::optional<double> report_ratio(double ours, std::optional<double> pap
 
 namespace nlosloc::sim {
 
+inline std::string format_percentile_table(const CaseSummary& c);
+
 /// The case table: estimator, ours 67% / 95%, paper 67% / 95%, ratios ours/paper, time per step (ours and
-/// the paper's, whose hardware and language differ: Ke & Wu ran Matlab on a Pentium IV).
+/// the paper's, whose hardware and language differ: Ke & Wu ran Matlab on a Pentium IV). When no estimator
+/// of the case has a published number (papers that give CDFs only, e.g. Huerta Figs. 13-15), the table of
+/// format_percentile_table() is printed instead.
 inline std::string format_table(const CaseSummary& c) {
+  bool any_paper = false;
+  for (const EstimatorSummary& e : c.estimators)
+    any_paper = any_paper || e.paper_p67 || e.paper_p95 || e.paper_time_per_step_us;
+  if (!any_paper) return format_percentile_table(c);
   std::string out;
   char b[512];
   std::snprintf(b, sizeof b, "%s case %s: %d runs x %d steps, errors over steps k >= %d, %.2f s\n",
@@ -118,6 +126,27 @@ inline std::string format_table(const CaseSummary& c) {
            detail::report_num(detail::report_ratio(p95, e.paper_p95), "%10.3f");
     out += " " + detail::report_num(e.time_per_step_ns * 1e-3, "%10.3f") + " " +
            detail::report_num(e.paper_time_per_step_us) + " " +
+           detail::report_num(e.sight_accuracy, "%10.3f") + "\n";
+  }
+  return out;
+}
+
+/// The case table without paper columns: estimator, our 50% / 67% / 90% / 95% errors, time per step and
+/// sight classification accuracy (scenarios whose paper publishes CDFs only).
+inline std::string format_percentile_table(const CaseSummary& c) {
+  std::string out;
+  char b[512];
+  std::snprintf(b, sizeof b, "%s case %s: %d runs x %d steps, errors over steps k >= %d, %.2f s\n",
+                c.scenario.c_str(), c.case_name.c_str(), c.runs, c.steps, c.discard, c.wall_seconds);
+  out += b;
+  std::snprintf(b, sizeof b, "  %-20s %10s %10s %10s %10s %10s %10s\n", "estimator", "ours 50%", "ours 67%",
+                "ours 90%", "ours 95%", "us/step", "sight acc");
+  out += b;
+  for (const EstimatorSummary& e : c.estimators) {
+    std::snprintf(b, sizeof b, "  %-20s", e.name.c_str());
+    out += b;
+    for (double q : {50.0, 67.0, 90.0, 95.0}) out += " " + detail::report_num(e.at(q));
+    out += " " + detail::report_num(e.time_per_step_ns * 1e-3, "%10.3f") + " " +
            detail::report_num(e.sight_accuracy, "%10.3f") + "\n";
   }
   return out;

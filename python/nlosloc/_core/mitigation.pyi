@@ -2,4 +2,554 @@
 Ke and Wu QP-bias EKF, bias-augmented EKF, QP adapter.
 """
 from __future__ import annotations
-__all__: list[str] = list()
+import nlosloc._core.filters
+import nlosloc._core.models
+import numpy
+import numpy.typing
+import typing
+__all__: list[str] = ['BiasAugmentedEkf', 'BiasAugmentedEkfOptions', 'BiasEstimate', 'BiasEstimator', 'BoxQp', 'BoxQpSettings', 'FLAG_BOUNDS_CLAMPED', 'FLAG_DEGENERATE_GEOMETRY', 'FLAG_MISSING_ROWS', 'FLAG_QP_FAILED', 'FLAG_REFERENCE_FALLBACK', 'FLAG_UPDATE_REJECTED', 'MitigationStep', 'QpBiasEkf', 'QpBiasEkfOptions', 'QpResult', 'QpStatus', 'RangeNoise', 'ReferenceKind', 'ReferencePoint', 'have_default_box_qp', 'make_box_qp', 'reference_point']
+class QpStatus:
+    """
+    Outcome of BoxQp.solve.
+    
+    Members:
+    
+      Solved
+    
+      MaxIterations
+    
+      PrimalInfeasible
+    
+      DualInfeasible
+    
+      Failed
+    """
+    DualInfeasible: typing.ClassVar[QpStatus]
+    Failed: typing.ClassVar[QpStatus]
+    MaxIterations: typing.ClassVar[QpStatus]
+    PrimalInfeasible: typing.ClassVar[QpStatus]
+    Solved: typing.ClassVar[QpStatus]
+    __members__: typing.ClassVar[dict[str, QpStatus]]
+    @typing.overload
+    def __eq__(self, other: QpStatus) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: QpStatus) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class BoxQpSettings:
+    """
+    Accuracy settings of the box-QP solvers (DESIGN.md).
+    """
+    def __init__(self) -> None:
+        ...
+    @property
+    def check_duality_gap(self) -> bool:
+        """
+        Also require a small gap.
+        """
+    @check_duality_gap.setter
+    def check_duality_gap(self, arg0: bool) -> None:
+        ...
+    @property
+    def compute_preconditioner(self) -> bool:
+        """
+        Ruiz equilibration before each solve (off: problems are pre-scaled).
+        """
+    @compute_preconditioner.setter
+    def compute_preconditioner(self, arg0: bool) -> None:
+        ...
+    @property
+    def eps_abs(self) -> float:
+        """
+        Absolute residual tolerance (> 0).
+        """
+    @eps_abs.setter
+    def eps_abs(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def eps_duality_gap_abs(self) -> float:
+        """
+        Duality-gap tolerance.
+        """
+    @eps_duality_gap_abs.setter
+    def eps_duality_gap_abs(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def max_iter(self) -> int:
+        """
+        Iteration limit (>= 1).
+        """
+    @max_iter.setter
+    def max_iter(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+class QpResult:
+    """
+    What one BoxQp.solve reports; the minimiser is BoxQp.x.
+    """
+    def ok(self) -> bool:
+        """
+        True when solved.
+        """
+    @property
+    def iterations(self) -> int:
+        ...
+    @property
+    def objective(self) -> float:
+        """
+        1/2 x^T H x + g^T x at x.
+        """
+    @property
+    def status(self) -> QpStatus:
+        ...
+class BoxQp:
+    """
+    Box-constrained convex QP: minimise 1/2 x^T H x + g^T x, lower <= x <= upper (Ke & Wu eq. 14). Build one with make_box_qp(n) (proxsuite dense QP).
+    """
+    def solve(self, H: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], g: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], lower: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], upper: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> QpResult:
+        """
+        Solves the QP. H (n, n) symmetric PSD, g, lower, upper (n,), lower <= upper; returns QpResult.
+        """
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def size(self) -> int:
+        ...
+    @property
+    def x(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Minimiser of the last solve (n,).
+        """
+class ReferenceKind:
+    """
+    How the reference point X0 was obtained (Sec. 3).
+    
+    Members:
+    
+      FeasibleVertices
+    
+      Hint
+    
+      LeastSquares
+    """
+    FeasibleVertices: typing.ClassVar[ReferenceKind]
+    Hint: typing.ClassVar[ReferenceKind]
+    LeastSquares: typing.ClassVar[ReferenceKind]
+    __members__: typing.ClassVar[dict[str, ReferenceKind]]
+    @typing.overload
+    def __eq__(self, other: ReferenceKind) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: ReferenceKind) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class RangeNoise:
+    """
+    Range noise std_i = sigma0 + relative * d_i (m).
+    """
+    def __init__(self, sigma0: typing.SupportsFloat | typing.SupportsIndex = 50.0, relative: typing.SupportsFloat | typing.SupportsIndex = 0.0, min_std: typing.SupportsFloat | typing.SupportsIndex = 0.001) -> None:
+        ...
+    def std_at(self, d: typing.SupportsFloat | typing.SupportsIndex) -> float:
+        """
+        Noise std at distance d (m).
+        """
+    @property
+    def min_std(self) -> float:
+        ...
+    @min_std.setter
+    def min_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def relative(self) -> float:
+        ...
+    @relative.setter
+    def relative(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def sigma0(self) -> float:
+        ...
+    @sigma0.setter
+    def sigma0(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+class ReferencePoint:
+    """
+    Reference point X0 of Sec. 3.
+    """
+    @property
+    def kind(self) -> ReferenceKind:
+        ...
+    @property
+    def point(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def vertices(self) -> int:
+        ...
+class BiasEstimate:
+    """
+    Result of BiasEstimator.estimate (Sec. 3).
+    """
+    @property
+    def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        b^ of eq. (14) (M,), m.
+        """
+    @property
+    def flags(self) -> int:
+        """
+        FLAG_* bits of the fallbacks taken.
+        """
+    @property
+    def lower(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Lower bounds (eq. 14).
+        """
+    @property
+    def qp(self) -> QpResult:
+        ...
+    @property
+    def reference(self) -> ReferencePoint:
+        ...
+    @property
+    def upper(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Upper bounds (eq. 15, after the documented clamp).
+        """
+    @property
+    def x_tilde(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Eq. (11).
+        """
+class BiasEstimator:
+    """
+    Ke & Wu Sec. 3 NLOS bias estimation for fixed anchors.
+    """
+    def __init__(self, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], solver: str = 'proxsuite', settings: BoxQpSettings = ...) -> None:
+        """
+        anchors (M, 2), M >= 3.
+        """
+    def estimate(self, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], variances: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], hint: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None) -> BiasEstimate:
+        """
+        Biases of ranges z (M,) with noise variances (M,) (eqs. 9-15); returns a BiasEstimate copy.
+        """
+    @property
+    def H0(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Eq. (10), (M, 2).
+        """
+    @property
+    def L(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Eq. (12), (M, M).
+        """
+    @property
+    def U(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Eq. (11), (2, M).
+        """
+    @property
+    def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    @property
+    def qp_gradient(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def qp_hessian(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    @property
+    def r(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Eq. (12) bias metric.
+        """
+    @property
+    def sigma_v(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Eq. (13), L R L^T.
+        """
+    @property
+    def sigma_v_ginv(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        R^-1 L.
+        """
+    @property
+    def size(self) -> int:
+        ...
+    @property
+    def sparsity(self) -> float:
+        """
+        L1 tie-break weight added to eq. (14) (0 = plain eq. 14).
+        """
+    @sparsity.setter
+    def sparsity(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def y(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Eq. (9) linearised measurement.
+        """
+class QpBiasEkfOptions:
+    """
+    Options of QpBiasEkf.
+    """
+    def __init__(self) -> None:
+        ...
+    @property
+    def always_estimate(self) -> bool:
+        """
+        Run the QP every step.
+        """
+    @always_estimate.setter
+    def always_estimate(self, arg0: bool) -> None:
+        ...
+    @property
+    def gamma(self) -> float:
+        """
+        Scaling factor of eq. (32), >= 1.
+        """
+    @gamma.setter
+    def gamma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def mitigate(self) -> bool:
+        """
+        False: plain EKF (eqs. 20-24).
+        """
+    @mitigate.setter
+    def mitigate(self, arg0: bool) -> None:
+        ...
+    @property
+    def noise(self) -> RangeNoise:
+        """
+        RangeNoise of R(k).
+        """
+    @noise.setter
+    def noise(self, arg0: RangeNoise) -> None:
+        ...
+    @property
+    def sparsity(self) -> float:
+        """
+        L1 tie-break of eq. (14).
+        """
+    @sparsity.setter
+    def sparsity(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+class MitigationStep:
+    """
+    What one QpBiasEkf update reports.
+    """
+    @property
+    def bias_estimated(self) -> bool:
+        ...
+    @property
+    def filter(self) -> nlosloc._core.filters.StepResult:
+        """
+        StepResult (log-likelihood, rows used, status).
+        """
+    @property
+    def flags(self) -> int:
+        ...
+    @property
+    def innovation_sq(self) -> float:
+        """
+        alpha^T alpha (eq. 31).
+        """
+    @property
+    def nlos(self) -> bool:
+        """
+        H1 of eq. (32).
+        """
+    @property
+    def threshold(self) -> float:
+        """
+        gamma Tr[F P F^T + R] (eq. 32).
+        """
+class QpBiasEkf:
+    """
+    Ke & Wu 2011 proposed tracker: EKF with QP-estimated NLOS biases (eq. 25) and the innovation test of eqs. (31)-(32). State [x, y, vx, vy].
+    """
+    def __init__(self, motion: nlosloc._core.models.ConstantVelocity2, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: QpBiasEkfOptions = ..., solver: str = 'proxsuite', t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        """
+        motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4).
+        """
+    def predict(self) -> None:
+        """
+        Eqs. (20)-(21).
+        """
+    def run(self, Z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], first_is_update: bool = True) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Runs over ranges Z (T, M); returns the means (T, 4). Row 0 is an update only by default.
+        """
+    def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    def step(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> MitigationStep:
+        """
+        predict() then update(z).
+        """
+    def update(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> MitigationStep:
+        """
+        Update with ranges z (M,), NaN = missing.
+        """
+    @property
+    def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    @property
+    def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        b^ of the last update (M,).
+        """
+    @property
+    def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    @property
+    def last_step(self) -> MitigationStep:
+        ...
+    @property
+    def mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def nlos_detected(self) -> bool:
+        ...
+    @property
+    def num_anchors(self) -> int:
+        ...
+    @property
+    def options(self) -> QpBiasEkfOptions:
+        ...
+    @property
+    def time(self) -> float:
+        ...
+class BiasAugmentedEkfOptions:
+    """
+    Options of BiasAugmentedEkf.
+    """
+    noise: RangeNoise
+    nonnegative: bool
+    def __init__(self) -> None:
+        ...
+    @property
+    def bias_prior_mean(self) -> float:
+        ...
+    @bias_prior_mean.setter
+    def bias_prior_mean(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def bias_prior_std(self) -> float:
+        ...
+    @bias_prior_std.setter
+    def bias_prior_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def bias_walk_std(self) -> float:
+        ...
+    @bias_walk_std.setter
+    def bias_walk_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def iterations(self) -> int:
+        ...
+    @iterations.setter
+    def iterations(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+class BiasAugmentedEkf:
+    """
+    Iterated NLOS EKF (Najar & Vidal 2003, Ke & Wu Sec. 1): state [x, y, vx, vy, b_1..b_M], iterated EKF update.
+    """
+    def __init__(self, motion: nlosloc._core.models.ConstantVelocity2, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: BiasAugmentedEkfOptions = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    def predict(self) -> None:
+        ...
+    def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    def step(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> nlosloc._core.filters.StepResult:
+        ...
+    def update(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> nlosloc._core.filters.StepResult:
+        ...
+    @property
+    def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    @property
+    def kinematic_mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        [x, y, vx, vy, b_1..b_M].
+        """
+    @property
+    def state_dim(self) -> int:
+        ...
+    @property
+    def time(self) -> float:
+        ...
+def make_box_qp(n: typing.SupportsInt | typing.SupportsIndex, settings: BoxQpSettings = ..., solver: str = 'proxsuite') -> BoxQp:
+    """
+    A BoxQp of n variables: solver 'proxsuite' (dense QP, default) or 'failing' (never solves).
+    """
+def reference_point(anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], hint: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None) -> ReferencePoint:
+    """
+    Centre of the feasible region of the range discs (Ke & Wu Sec. 3): mean of the region's vertices; without vertices, `hint` if given, else the least-squares range fit.
+    """
+FLAG_BOUNDS_CLAMPED: int = 2
+FLAG_DEGENERATE_GEOMETRY: int = 8
+FLAG_MISSING_ROWS: int = 16
+FLAG_QP_FAILED: int = 4
+FLAG_REFERENCE_FALLBACK: int = 1
+FLAG_UPDATE_REJECTED: int = 32
+have_default_box_qp: bool = True

@@ -2,4 +2,390 @@
 Rao-Blackwellized particle filters with merge/prune, joint PF.
 """
 from __future__ import annotations
-__all__: list[str] = list()
+import collections.abc
+import nlosloc._core.core
+import nlosloc._core.filters
+import nlosloc._core.models
+import nlosloc._core.situation
+import numpy
+import numpy.typing
+import typing
+__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfStepInfo', 'RbpfVariant', 'default_merge_threshold', 'merge', 'situation_count', 'systematic_resample']
+class RbpfVariant:
+    """
+    Order of the RBPF iteration.
+    
+    Members:
+    
+      Classical : Table IV: a UKF for every child
+    
+      Reordered : Table V: merge/select first, M UKFs
+    """
+    Classical: typing.ClassVar[RbpfVariant]
+    Reordered: typing.ClassVar[RbpfVariant]
+    __members__: typing.ClassVar[dict[str, RbpfVariant]]
+    @typing.overload
+    def __eq__(self, other: RbpfVariant) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: RbpfVariant) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class PfResampling:
+    """
+    Selection step of the joint PF.
+    
+    Members:
+    
+      Systematic : systematic resampling when ESS < threshold M
+    
+      MergeSelect : bucketed merge (eqs. 29-30) then systematic resampling
+    """
+    MergeSelect: typing.ClassVar[PfResampling]
+    Systematic: typing.ClassVar[PfResampling]
+    __members__: typing.ClassVar[dict[str, PfResampling]]
+    @typing.overload
+    def __eq__(self, other: PfResampling) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: PfResampling) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class RbpfOptions:
+    """
+    Settings of Rbpf.
+    """
+    merge: bool
+    scheme: nlosloc._core.core.SigmaScheme
+    variant: RbpfVariant
+    @typing.overload
+    def __init__(self) -> None:
+        ...
+    @typing.overload
+    def __init__(self, variant: RbpfVariant = RbpfVariant.Reordered, num_particles: typing.SupportsInt | typing.SupportsIndex = 16, max_offspring: typing.SupportsInt | typing.SupportsIndex = 4096, merge: bool = True, merge_threshold: typing.SupportsFloat | typing.SupportsIndex = -1.0, threads: typing.SupportsInt | typing.SupportsIndex = 1, scheme: nlosloc._core.core.SigmaScheme = ...) -> None:
+        ...
+    @property
+    def max_offspring(self) -> int:
+        """
+        Children per particle; above N_z^B the best ones by prior x quality (bounded).
+        """
+    @max_offspring.setter
+    def max_offspring(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def merge_threshold(self) -> float:
+        """
+        d_min; negative: eq. (31).
+        """
+    @merge_threshold.setter
+    def merge_threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def num_particles(self) -> int:
+        """
+        M, particles propagated (>= 1).
+        """
+    @num_particles.setter
+    def num_particles(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def threads(self) -> int:
+        ...
+    @threads.setter
+    def threads(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+class RbpfStepInfo:
+    """
+    What one RBPF step reports.
+    """
+    @property
+    def failures(self) -> int:
+        ...
+    @property
+    def log_likelihood(self) -> float:
+        ...
+    @property
+    def merge_threshold(self) -> float:
+        ...
+    @property
+    def merged(self) -> int:
+        ...
+    @property
+    def offspring(self) -> int:
+        ...
+    @property
+    def status(self) -> nlosloc._core.core.CholeskyStatus:
+        ...
+    @property
+    def ukf_runs(self) -> int:
+        ...
+class PfOptions:
+    """
+    Settings of ParticleFilter.
+    """
+    resampling: PfResampling
+    @typing.overload
+    def __init__(self) -> None:
+        ...
+    @typing.overload
+    def __init__(self, num_particles: typing.SupportsInt | typing.SupportsIndex = 10000, resampling: PfResampling = PfResampling.Systematic, ess_threshold: typing.SupportsFloat | typing.SupportsIndex = 0.5, merge_threshold: typing.SupportsFloat | typing.SupportsIndex = -1.0, threads: typing.SupportsInt | typing.SupportsIndex = 1, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+        ...
+    @property
+    def ess_threshold(self) -> float:
+        ...
+    @ess_threshold.setter
+    def ess_threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def merge_threshold(self) -> float:
+        ...
+    @merge_threshold.setter
+    def merge_threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def num_particles(self) -> int:
+        ...
+    @num_particles.setter
+    def num_particles(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def seed(self) -> int:
+        ...
+    @seed.setter
+    def seed(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def threads(self) -> int:
+        ...
+    @threads.setter
+    def threads(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+class PfStepInfo:
+    """
+    What one PF step reports.
+    """
+    @property
+    def ess(self) -> float:
+        ...
+    @property
+    def log_likelihood(self) -> float:
+        ...
+    @property
+    def merged(self) -> int:
+        ...
+    @property
+    def resampled(self) -> bool:
+        ...
+class Rbpf:
+    """
+    Rao-Blackwellized particle filter with UKF bank and merge/select (Huerta Sec. V-A/B).
+    """
+    def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, sight: nlosloc._core.situation.SightProcess, quality: nlosloc._core.situation.QualityModel, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: RbpfOptions = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    def particle_cov(self, i: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    def particle_mean(self, i: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    def particle_situation(self, i: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+        ...
+    def reset(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], O: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> dict:
+        """
+        step() over the rows of Y (T, m) and O (T, B), GIL released. Returns a dict of mean (T, n), cov (T, n, n), situation_probabilities (T, B, N_z), log_likelihood (T,).
+        """
+    def sight_estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+        """
+        Most probable condition per anchor (B,).
+        """
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> RbpfStepInfo:
+        """
+        One iteration with measurements y (m,) and quality statistics o (B,).
+        """
+    @property
+    def children_per_particle(self) -> int:
+        ...
+    @property
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Covariance (n, n) of the posterior (moment-matched mixture, eq. 27).
+        """
+    @property
+    def estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        State estimate (n,) (Huerta eq. 28 for the RBPF).
+        """
+    @property
+    def num_particles(self) -> int:
+        ...
+    @property
+    def situation_probabilities(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (B, N_z) P(s_b = z | data).
+        """
+    @property
+    def time(self) -> float:
+        ...
+    @property
+    def weights(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+class ParticleFilter:
+    """
+    Joint bootstrap particle filter over (x, s) (Huerta Sec. VI-B, PF).
+    """
+    def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, sight: nlosloc._core.situation.SightProcess, quality: nlosloc._core.situation.QualityModel, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: PfOptions = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], O: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> dict:
+        """
+        As Rbpf.run.
+        """
+    def sight_estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+        """
+        Most probable condition per anchor (B,).
+        """
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> PfStepInfo:
+        ...
+    @property
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Covariance (n, n) of the posterior (moment-matched mixture, eq. 27).
+        """
+    @property
+    def estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        State estimate (n,) (Huerta eq. 28 for the RBPF).
+        """
+    @property
+    def log_weights(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def num_particles(self) -> int:
+        ...
+    @property
+    def particles(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (n, M) particle states (a copy).
+        """
+    @property
+    def situation_probabilities(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (B, N_z) P(s_b = z | data).
+        """
+    @property
+    def situations(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
+        ...
+class Iukf:
+    """
+    Improved UKF (Huerta Table VI, N_z conditions as Grisales eqs. 36-37): per-anchor forward filter on the quality statistics, one noise set per condition weighted by its probabilities.
+    """
+    def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, sight: nlosloc._core.situation.SightProcess, quality: nlosloc._core.situation.QualityModel, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], scheme: nlosloc._core.core.SigmaScheme = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    def predict(self) -> None:
+        ...
+    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], O: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> dict:
+        """
+        As Rbpf.run.
+        """
+    def sight_estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+        """
+        Most probable condition per anchor (B,).
+        """
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> nlosloc._core.filters.StepResult:
+        """
+        predict, forward filter with o (B,), update with y (m,). Returns a StepResult.
+        """
+    def update_with_probabilities(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], gamma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> nlosloc._core.filters.StepResult:
+        """
+        Update with explicit (B, N_z) condition probabilities.
+        """
+    @property
+    def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+    @property
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Covariance (n, n) of the posterior (moment-matched mixture, eq. 27).
+        """
+    @property
+    def estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        State estimate (n,) (Huerta eq. 28 for the RBPF).
+        """
+    @property
+    def mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def situation_probabilities(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (B, N_z) P(s_b = z | data).
+        """
+def default_merge_threshold(position_variance: typing.SupportsFloat | typing.SupportsIndex, num_particles: typing.SupportsInt | typing.SupportsIndex) -> float:
+    """
+    d_min = sigma^2 / (10 M), Huerta eq. (31).
+    """
+def merge(keys: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], d_min: typing.SupportsFloat | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], int]:
+    """
+    Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, number absorbed).
+    """
+def situation_count(num_conditions: typing.SupportsInt | typing.SupportsIndex, num_anchors: typing.SupportsInt | typing.SupportsIndex) -> int:
+    """
+    N_z^B (0 when above 2^62).
+    """
+def systematic_resample(w: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], M: typing.SupportsInt | typing.SupportsIndex, u0: typing.SupportsFloat | typing.SupportsIndex) -> list[int]:
+    """
+    Ancestor indices of systematic resampling (normalised w).
+    """

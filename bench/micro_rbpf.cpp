@@ -1,0 +1,131 @@
+// Micro-benchmarks of the RBPF family on an H2-like model (Huerta Sec. VI-B: 6 anchors on a hexagon of
+// 3 km, RTOA, 6-state [p, tau, v, tau_dot], LOS Normal var 10 / NLOS Rayleigh var 5000, speed-dependent
+// sight chain with E{L} = 10 m, Beta quality statistics). Time per step of rRBPF-16, rRBPF-128, cRBPF-128
+// (M = 2, 128 UKF runs) and the joint PF (items = particles, so ns per particle per step), on 1 and 2
+// threads. Targets of issue #3: rRBPF-128 <= 1 ms per step on one core, 2-core speed-up >= 1.8, PF <= 50 ns
+// per particle per step.
+#include <benchmark/benchmark.h>
+
+#include <vector>
+
+#include "nlosloc/rbpf/pf.hpp"
+#include "nlosloc/rbpf/rbpf.hpp"
+
+namespace {
+using namespace nlosloc;
+namespace nn = nlosloc::noise;
+namespace si = nlosloc::situation;
+
+struct H2Model {
+  ConstantVelocityClock2 motion{0.01, 1.0, 1e-2};
+  MeasurementStack st{ConstantVelocityClock2::layout(), anchors(), 2};
+  si::SightProcess proc{si::SightModel::speed_dependent(10, 10, 0.01), 6};
+  si::QualityModel q{{nn::Beta(4, 1.5), nn::Beta(1.5, 4)}};
+  Gaussian<6> init;
+  std::vector<VecX> y, o;
+
+  H2Model() {
+    for (int b = 0; b < 6; ++b)
+      st.add_rtoa(b, {nn::Normal(0, std::sqrt(10.0)), nn::Rayleigh::from_variance(5000)});
+    init.mean.setZero();
+    init.cov = Vec<6>(25, 25, 10, 1, 1, 10).asDiagonal();
+    // a pre-drawn 1024-step track (random-walk mobile, sight from the chain), cycled by the loops
+    Rng rng(1);
+    Vec<6> x = Vec<6>::Zero();
+    VecXi s = proc.sample_initial(rng);
+    for (int k = 1; k <= 1024; ++k) {
+      x = motion.F() * x;
+      x(3) += 0.1 * rng.normal();
+      x(4) += 0.1 * rng.normal();
+      x(5) += 0.01 * rng.normal();
+      VecX w(6);
+      si::transversal_speeds(x.head<2>(), x.segment<2>(3), st.anchors(), w);
+      s = proc.sample_next(s, k, w, rng);
+      VecX yk(6);
+      st.predict(x, 0.0, yk);
+      for (int b = 0; b < 6; ++b) yk(b) += st.noise(b, s(b)).sample(rng);
+      y.push_back(yk);
+      o.push_back(q.sample(s, rng));
+    }
+  }
+  static MatX anchors() {
+    MatX a(6, 2);
+    for (int b = 0; b < 6; ++b) {
+      a(b, 0) = 3000 * std::cos(b * kPi / 3);
+      a(b, 1) = 3000 * std::sin(b * kPi / 3);
+    }
+    return a;
+  }
+};
+
+const H2Model& model() {
+  static const H2Model m;
+  return m;
+}
+
+/// args: variant (0 classical, 1 reordered), M, threads
+void BM_Rbpf(benchmark::State& state) {
+  const H2Model& h = model();
+  rbpf::RbpfOptions opt;
+  opt.variant = state.range(0) == 0 ? rbpf::RbpfVariant::kClassical : rbpf::RbpfVariant::kReordered;
+  opt.num_particles = static_cast<int>(state.range(1));
+  opt.threads = static_cast<int>(state.range(2));
+  rbpf::Rbpf<ConstantVelocityClock2> f(h.motion, h.st, h.proc, h.q, h.init, opt);
+  std::size_t k = 0;
+  for (int w = 0; w < 50; ++w, ++k) f.step(h.y[k], h.o[k]);  // past the first (single-particle) steps
+  for (auto _ : state) {
+    const auto info = f.step(h.y[k & 1023], h.o[k & 1023]);
+    benchmark::DoNotOptimize(info.log_likelihood);
+    if ((++k & 1023) == 0) {
+      state.PauseTiming();
+      f.reset(h.init);
+      state.ResumeTiming();
+    }
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()));
+}
+// rRBPF-16, rRBPF-128, cRBPF-128 (M = 2 propagated, 2 x 64 = 128 UKF runs), each on 1 and 2 threads
+BENCHMARK(BM_Rbpf)
+    ->ArgNames({"reordered", "M", "threads"})
+    ->Args({1, 16, 1})
+    ->Args({1, 16, 2})
+    ->Args({1, 128, 1})
+    ->Args({1, 128, 2})
+    ->Args({0, 2, 1})
+    ->Args({0, 2, 2})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
+
+/// args: particles, threads, resampling (0 systematic, 1 merge-select)
+void BM_Pf(benchmark::State& state) {
+  const H2Model& h = model();
+  rbpf::PfOptions opt;
+  opt.num_particles = static_cast<int>(state.range(0));
+  opt.threads = static_cast<int>(state.range(1));
+  opt.resampling = state.range(2) == 0 ? rbpf::PfResampling::kSystematic : rbpf::PfResampling::kMergeSelect;
+  opt.ess_threshold = 0.5;
+  rbpf::ParticleFilter<ConstantVelocityClock2> f(h.motion, h.st, h.proc, h.q, h.init, opt);
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto info = f.step(h.y[k & 1023], h.o[k & 1023]);
+    benchmark::DoNotOptimize(info.log_likelihood);
+    if ((++k & 1023) == 0) {
+      state.PauseTiming();
+      f.reset(h.init);
+      state.ResumeTiming();
+    }
+  }
+  // items = particle-steps: items_per_second gives ns per particle per step as 1e9 / rate
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * state.range(0));
+}
+BENCHMARK(BM_Pf)
+    ->ArgNames({"particles", "threads", "merge"})
+    ->Args({100000, 1, 0})
+    ->Args({100000, 2, 0})
+    ->Args({1000000, 1, 0})
+    ->Args({1000000, 2, 0})
+    ->Args({1000000, 2, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace

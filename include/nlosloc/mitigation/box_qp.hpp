@@ -1,0 +1,129 @@
+#pragma once
+/// \file box_qp.hpp
+/// A small adapter for box-constrained convex quadratic programs
+///     minimise 1/2 x^T H x + g^T x   subject to   lower <= x <= upper,
+/// the form of Ke & Wu eq. (14) with the bounds of eq. (15). The interface names no solver type, so the
+/// solver can be swapped: box_qp_proxsuite.hpp implements it on proxsuite's dense QP (DESIGN.md), and tests
+/// inject their own implementations (e.g. one that always fails, to exercise the callers' fallbacks).
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "nlosloc/core/types.hpp"
+
+namespace nlosloc::mitigation {
+
+/// Outcome of one BoxQp::solve.
+enum class QpStatus {
+  kSolved = 0,            ///< converged to the requested accuracy
+  kMaxIterations = 1,     ///< iteration limit reached (x is the last iterate, not trusted)
+  kPrimalInfeasible = 2,  ///< the solver reports no feasible point
+  kDualInfeasible = 3,    ///< the objective is unbounded below on the box (cannot happen for H PSD)
+  kFailed = 4             ///< anything else: non-finite output, a solver exception, not run
+};
+
+/// Name of a QpStatus ("solved", "max_iterations", ...).
+inline const char* to_string(QpStatus s) {
+  switch (s) {
+    case QpStatus::kSolved: return "solved";
+    case QpStatus::kMaxIterations: return "max_iterations";
+    case QpStatus::kPrimalInfeasible: return "primal_infeasible";
+    case QpStatus::kDualInfeasible: return "dual_infeasible";
+    case QpStatus::kFailed: return "failed";
+  }
+  return "failed";
+}
+
+/// Accuracy settings shared by the implementations (defaults: DESIGN.md proxsuite notes).
+struct BoxQpSettings {
+  double eps_abs = 1e-9;              ///< absolute primal/dual residual tolerance, > 0
+  bool check_duality_gap = true;      ///< also require a small duality gap (DESIGN.md: without it
+                                      ///< proxsuite stops ~1e-5 away on rank-deficient box LS)
+  double eps_duality_gap_abs = 1e-9;  ///< absolute duality-gap tolerance, > 0
+  int max_iter = 1000;                ///< outer iteration limit, >= 1
+  /// Ruiz equilibration before each solve. Off by default: it costs ~40% of a 3-variable solve, and the
+  /// callers here pass unit-scaled problems (BiasEstimator scales b by sqrt(mean R)).
+  bool compute_preconditioner = false;
+};
+
+/// What one solve reports; the minimiser is read from BoxQp::x().
+struct QpResult {
+  QpStatus status = QpStatus::kFailed;
+  int iterations = 0;      ///< solver iterations (0 when not run)
+  double objective = 0.0;  ///< 1/2 x^T H x + g^T x at the returned x (NaN when not solved)
+  bool ok() const { return status == QpStatus::kSolved; }
+};
+
+/// Box-constrained convex QP solver of fixed size n, set up once (allocation at construction), then
+/// solve() per problem. H must be symmetric positive semidefinite (rank deficiency allowed).
+class BoxQp {
+ public:
+  virtual ~BoxQp() = default;
+  /// Number of variables n.
+  virtual int size() const = 0;
+  /// Solves the QP; H (n x n, symmetric PSD), g, lower, upper (n) finite with lower <= upper, else
+  /// std::invalid_argument naming the argument. Numerical failure is reported in the status, not thrown.
+  virtual QpResult solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,
+                         const Eigen::Ref<const VecX>& lower, const Eigen::Ref<const VecX>& upper) = 0;
+  /// Minimiser of the last solve (n); meaningful when the last result was ok().
+  virtual const VecX& x() const = 0;
+  /// Short solver name ("proxsuite-dense", ...).
+  virtual std::string name() const = 0;
+};
+
+/// A BoxQp that never solves (status kFailed, x = 0): the stand-in when no solver is compiled in, and the
+/// way tests exercise the callers' QP-failure fallback.
+class FailingBoxQp final : public BoxQp {
+ public:
+  explicit FailingBoxQp(int n) : n_(n) {
+    NLOSLOC_ENSURE(n >= 1, "n: expected >= 1 variables, got " + std::to_string(n));
+    x_.setZero(n);
+  }
+  int size() const override { return n_; }
+  std::string name() const override { return "failing"; }
+  const VecX& x() const override { return x_; }
+  QpResult solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,
+                 const Eigen::Ref<const VecX>& lower, const Eigen::Ref<const VecX>& upper) override;
+
+ private:
+  int n_;
+  VecX x_;
+};
+
+namespace detail {
+/// Argument checks shared by the implementations.
+inline void check_box_qp(int n, const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,
+                         const Eigen::Ref<const VecX>& lower, const Eigen::Ref<const VecX>& upper) {
+  nlosloc::detail::ensure_shape(H, n, n, "H");
+  nlosloc::detail::ensure_shape(g, n, 1, "g");
+  nlosloc::detail::ensure_shape(lower, n, 1, "lower");
+  nlosloc::detail::ensure_shape(upper, n, 1, "upper");
+  nlosloc::detail::ensure_finite(H, "H");
+  nlosloc::detail::ensure_finite(g, "g");
+  nlosloc::detail::ensure_finite(lower, "lower");
+  nlosloc::detail::ensure_finite(upper, "upper");
+  for (int i = 0; i < n; ++i)
+    if (lower[i] > upper[i])
+      nlosloc::detail::throw_invalid_argument("lower, upper: expected lower <= upper, got lower[" +
+                                              std::to_string(i) + "] = " + std::to_string(lower[i]) +
+                                              " > upper[" + std::to_string(i) +
+                                              "] = " + std::to_string(upper[i]));
+}
+inline void check_box_qp_settings(const BoxQpSettings& s) {
+  nlosloc::detail::ensure_positive(s.eps_abs, "settings.eps_abs");
+  nlosloc::detail::ensure_positive(s.eps_duality_gap_abs, "settings.eps_duality_gap_abs");
+  NLOSLOC_ENSURE(s.max_iter >= 1, "settings.max_iter: expected >= 1, got " + std::to_string(s.max_iter));
+}
+}  // namespace detail
+
+inline QpResult FailingBoxQp::solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,
+                                    const Eigen::Ref<const VecX>& lower,
+                                    const Eigen::Ref<const VecX>& upper) {
+  detail::check_box_qp(n_, H, g, lower, upper);
+  QpResult r;
+  r.status = QpStatus::kFailed;
+  r.objective = std::nan("");
+  return r;
+}
+
+}  // namespace nlosloc::mitigation

@@ -1,0 +1,212 @@
+#pragma once
+/// \file qp_bias_ekf.hpp
+/// The tracker proposed by Ke & Wu 2011 (papers/ke-wu2011-qp-ekf.md, Secs. 4-5, Fig. 1): an EKF over the
+/// constant-velocity model of eq. (16) whose measurement update subtracts the NLOS biases estimated by the
+/// box QP of Sec. 3 (eq. 25), the QP being run only when the innovation test of eqs. (31)-(32) declares NLOS.
+///
+/// Adaptive R (their ref. [19], Sage and Husa 1969): left out. The paper only says "R(k) is updated by the
+/// adaptive approach in [19]" without the estimator's form (forgetting factor, whether the innovation used
+/// is the raw or the bias-corrected one, the positivity safeguard), so it cannot be reproduced from the
+/// paper; R(k) here is the range-noise model of RangeNoise evaluated at the predicted position.
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "nlosloc/core/gaussian.hpp"
+#include "nlosloc/filters/common.hpp"
+#include "nlosloc/mitigation/bias_estimation.hpp"
+#include "nlosloc/models/motion.hpp"
+
+namespace nlosloc::mitigation {
+
+/// Options of QpBiasEkf.
+struct QpBiasEkfOptions {
+  double gamma = 1.1;            ///< scaling factor of the test (32), >= 1 (Ke & Wu: 1.1)
+  RangeNoise noise{};            ///< R(k): std_i = sigma0 + relative * d_i at the predicted position
+  bool mitigate = true;          ///< false: plain EKF (eqs. 20-24), the paper's "EKF" column
+  bool always_estimate = false;  ///< true: run the QP at every step (skip the test of eq. 32)
+  double sparsity = 0.0;         ///< L1 tie-break of eq. (14), BiasEstimator::set_sparsity
+
+  void validate() const {
+    NLOSLOC_ENSURE(gamma >= 1.0 && std::isfinite(gamma),
+                   "options.gamma: expected a finite value >= 1 (eq. 32), got " + std::to_string(gamma));
+    noise.validate("options.noise");
+  }
+};
+
+/// What one QpBiasEkf update reports.
+struct MitigationStep {
+  StepResult filter;            ///< log-likelihood of the corrected innovation, rows used, Cholesky status
+  bool nlos = false;            ///< H1 of eq. (32): NLOS declared
+  bool bias_estimated = false;  ///< the QP of eq. (14) ran this step
+  double innovation_sq = 0.0;   ///< alpha^T alpha, eq. (31) left side (rows used)
+  double threshold = 0.0;       ///< gamma Tr[F P F^T + R], eq. (32) right side
+  unsigned flags = 0;           ///< MitigationFlag bits (fallbacks taken)
+};
+
+/// Ke & Wu's EKF with QP NLOS-bias correction and innovation-based NLOS identification, 2-D, M >= 3 TOA
+/// anchors. State S = [x, y, vx, vy] (eq. 16). Buffers and the QP solver are set up at construction; a step
+/// does not allocate (beyond the QP solver's internals). Move-only (owns the solver).
+class QpBiasEkf {
+ public:
+  static constexpr int kDim = 4;
+  using State = Vec<4>;
+  using Cov = Mat<4, 4>;
+
+  /// motion: eq. (16) model (ConstantVelocity2 with white acceleration); anchors M x 2; initial belief;
+  /// solver: BoxQp of size M for eq. (14) (default make_box_qp(M)); t0 start time (s).
+  QpBiasEkf(const ConstantVelocity2& motion, const MatX& anchors, const Gaussian<4>& initial,
+            const QpBiasEkfOptions& options = {}, std::unique_ptr<BoxQp> solver = nullptr, double t0 = 0.0)
+      : motion_(motion),
+        opt_(options),
+        bias_est_(anchors, solver_or_default(std::move(solver), anchors, options)) {
+    opt_.validate();
+    bias_est_.set_sparsity(opt_.sparsity);
+    initial.validate("initial");
+    NLOSLOC_ENSURE(std::isfinite(t0), "t0: expected a finite time (s)");
+    x_ = initial.mean;
+    P_ = initial.cov;
+    t_ = t0;
+    const int M = bias_est_.size();
+    tail_.resize(M);
+    F_.setZero(M, kDim);
+    a_.setZero(M);
+    var_.setZero(M);
+    ycorr_.setZero(M);
+    bias_.setZero(M);
+  }
+
+  int num_anchors() const { return bias_est_.size(); }
+  const MatX& anchors() const { return bias_est_.anchors(); }
+  const QpBiasEkfOptions& options() const { return opt_; }
+  const ConstantVelocity2& motion() const { return motion_; }
+  const State& mean() const { return x_; }
+  const Cov& cov() const { return P_; }
+  Gaussian<4> belief() const { return {x_, P_}; }
+  double time() const { return t_; }
+  /// b^ used by the last update (M, m); zero when the test said LOS or a fallback zeroed it.
+  const VecX& bias() const { return bias_; }
+  /// The last update's report.
+  const MitigationStep& last_step() const { return last_; }
+  /// H1 of eq. (32) at the last update.
+  bool nlos_detected() const { return last_.nlos; }
+  /// The Sec. 3 estimator (its last estimate and intermediates).
+  const BiasEstimator& bias_estimator() const { return bias_est_; }
+
+  /// Replaces the belief (validated) and time; clears the last bias and decision.
+  void set_belief(const Gaussian<4>& b, double t) {
+    b.validate("belief");
+    NLOSLOC_ENSURE(std::isfinite(t), "t: expected a finite time (s)");
+    x_ = b.mean;
+    P_ = b.cov;
+    t_ = t;
+    bias_.setZero();
+    last_ = MitigationStep{};
+  }
+
+  /// Prediction, eqs. (20)-(21): S(k|k-1) = Phi S(k-1|k-1), P(k|k-1) = Phi P Phi^T + Gamma Q Gamma^T.
+  void predict() {
+    x_ = motion_.F() * x_;
+    P_ = motion_.F() * P_ * motion_.F().transpose() + motion_.Q();
+    nlosloc::detail::symmetrize(P_);
+    t_ += motion_.dt();
+  }
+
+  /// Measurement update with ranges z (M, m; NaN = missing row, skipped): innovation (26), test (31)-(32),
+  /// bias QP (Sec. 3) when NLOS, gain (22), corrected update (25) and covariance (23).
+  MitigationStep update(const Eigen::Ref<const VecX>& z) {
+    nlosloc::detail::check_measurement(z, num_anchors());
+    return update_unchecked(z);
+  }
+
+  /// predict() then update(z); on bad input nothing changes (checked before predicting).
+  MitigationStep step(const Eigen::Ref<const VecX>& z) {
+    nlosloc::detail::check_measurement(z, num_anchors());
+    predict();
+    return update_unchecked(z);
+  }
+
+ private:
+  MitigationStep update_unchecked(const Eigen::Ref<const VecX>& z) {
+    const int M = num_anchors();
+    const MatX& A = anchors();
+    MitigationStep res;
+    auto& t = tail_;
+    // Eq. (19): F(k) = df/dS at the prediction; predicted ranges z^(k|k-1); R(k) from the range noise.
+    double trace = 0.0, asq = 0.0;
+    bool missing = false;
+    for (int i = 0; i < M; ++i) {
+      const Vec<2> d = x_.head<2>() - A.row(i).transpose();
+      const double n = d.norm();
+      t.zhat[i] = n;
+      if (n > 1e-12) {
+        F_.row(i) << d[0] / n, d[1] / n, 0.0, 0.0;
+      } else {
+        F_.row(i).setZero();  // on the anchor: range gradient undefined, the row carries no geometry
+      }
+      const double sd = opt_.noise.std_at(n);
+      var_[i] = sd * sd;
+      a_[i] = z[i] - n;  // eq. (26): alpha(k) = z(k) - z^(k|k-1)
+      if (std::isnan(z[i])) missing = true;
+    }
+    t.Pxz.noalias() = P_ * F_.transpose();  // P F^T
+    t.S.noalias() = F_ * t.Pxz;             // F P F^T + R, eq. (27)
+    t.S.diagonal() += var_;
+    for (int i = 0; i < M; ++i) {
+      if (std::isnan(z[i])) continue;
+      trace += t.S(i, i);
+      asq += a_[i] * a_[i];
+    }
+    // Eqs. (31)-(32): H1 (NLOS) when alpha^T alpha > gamma Tr[F P F^T + R].
+    res.innovation_sq = asq;
+    res.threshold = opt_.gamma * trace;
+    res.nlos = asq > res.threshold;
+    bias_.setZero();
+    if (opt_.mitigate && (res.nlos || opt_.always_estimate)) {
+      if (missing) {
+        res.flags |= kFlagMissingRows;
+      } else {
+        const Vec<2> hint = x_.head<2>();
+        const BiasEstimate& be = bias_est_.estimate(z, var_, &hint);  // Sec. 3, eqs. (9)-(15)
+        res.flags |= be.flags;
+        res.bias_estimated = true;
+        bias_ = be.bias;
+      }
+    }
+    // Eq. (25): S(k|k) = S(k|k-1) + K(k) [z(k) - z^(k|k-1) - b^(k)], K of eq. (22), P of eq. (23).
+    ycorr_ = z - bias_;
+    const State x0 = x_;
+    const Cov P0 = P_;
+    const bool ok = t.apply(
+        ycorr_, [](VecX&) {}, x_, P_, res.filter);
+    if (!ok || !x_.allFinite() || !P_.allFinite()) {
+      x_ = x0;  // never NaN in the state: keep the prediction
+      P_ = P0;
+      res.flags |= kFlagUpdateRejected;
+    }
+    last_ = res;
+    return res;
+  }
+
+  /// The given solver, else make_box_qp(M); a FailingBoxQp when no default exists and mitigation is off.
+  static std::unique_ptr<BoxQp> solver_or_default(std::unique_ptr<BoxQp> s, const MatX& anchors,
+                                                  const QpBiasEkfOptions& o) {
+    if (s) return s;
+    if (!have_default_box_qp() && !o.mitigate)
+      return std::make_unique<FailingBoxQp>(static_cast<int>(std::max<Eigen::Index>(anchors.rows(), 1)));
+    return make_box_qp(static_cast<int>(std::max<Eigen::Index>(anchors.rows(), 1)));
+  }
+
+  ConstantVelocity2 motion_;
+  QpBiasEkfOptions opt_;
+  BiasEstimator bias_est_;
+  State x_;
+  Cov P_;
+  double t_ = 0.0;
+  nlosloc::detail::UpdateTail<4> tail_;
+  Eigen::Matrix<double, Eigen::Dynamic, 4> F_;
+  VecX a_, var_, ycorr_, bias_;
+  MitigationStep last_;
+};
+
+}  // namespace nlosloc::mitigation

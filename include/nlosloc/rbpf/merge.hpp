@@ -1,0 +1,91 @@
+#pragma once
+/// \file merge.hpp
+/// Merge and select of the RBPF (Huerta Sec. V-A.3): particles with the same current situation vector whose
+/// kinetic means are closer than d_min (distance eq. 29) are merged by moving the weight of the lighter one
+/// to the heavier one (eq. 30); then the M heaviest are kept (pruning). Weights are logs throughout.
+///
+/// Order of the merge (the paper leaves it open when chains a-b-c exist): particles are visited by
+/// decreasing weight; each particle not yet absorbed absorbs every lighter, not yet absorbed particle of its
+/// group within d_min. The result therefore does not depend on the input order (ties by index).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+#include "nlosloc/core/types.hpp"
+
+namespace nlosloc::rbpf {
+
+/// log(exp(a) + exp(b)) without overflow; exact for -inf.
+inline double log_add(double a, double b) {
+  if (a < b) std::swap(a, b);
+  if (b == -std::numeric_limits<double>::infinity()) return a;
+  return a + std::log1p(std::exp(b - a));
+}
+
+/// Default merge threshold of Huerta eq. (31): d_min = sigma^2 / (10 M), with sigma^2 the variance of the
+/// position estimate (m^2) and M the number of particles.
+inline double default_merge_threshold(double position_variance, int num_particles) {
+  NLOSLOC_ENSURE(num_particles >= 1, "num_particles: expected M >= 1");
+  nlosloc::detail::ensure_nonnegative(position_variance, "position_variance");
+  return position_variance / (10.0 * static_cast<double>(num_particles));  // eq. (31)
+}
+
+/// Reusable buffers of the merge (sized on first use, reused afterwards).
+struct MergeWorkspace {
+  std::vector<int> order;
+};
+
+/// Greedy merge (eqs. 29-30) of n particles with situation keys `keys`, log weights `logw` (modified in
+/// place: absorbed particles get -inf). close(a, b) says whether ||x_a - x_b|| < d_min (only asked for
+/// particles with equal keys; eq. 29 makes the distance infinite otherwise). Returns the number absorbed.
+template <class Close>
+int merge_greedy(const std::uint64_t* keys, double* logw, int n, Close&& close, MergeWorkspace& ws) {
+  constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+  ws.order.resize(static_cast<std::size_t>(n));
+  std::iota(ws.order.begin(), ws.order.end(), 0);
+  // Group by key, heaviest first within a group (ties by index): deterministic.
+  std::sort(ws.order.begin(), ws.order.end(), [&](int a, int b) {
+    if (keys[a] != keys[b]) return keys[a] < keys[b];
+    if (logw[a] != logw[b]) return logw[a] > logw[b];
+    return a < b;
+  });
+  int absorbed = 0;
+  std::size_t g0 = 0;
+  const auto N = static_cast<std::size_t>(n);
+  while (g0 < N) {
+    std::size_t g1 = g0 + 1;
+    while (g1 < N && keys[ws.order[g1]] == keys[ws.order[g0]]) ++g1;
+    for (std::size_t i = g0; i < g1; ++i) {
+      const int a = ws.order[i];
+      if (logw[a] == kNegInf) continue;  // absorbed (or impossible)
+      for (std::size_t j = i + 1; j < g1; ++j) {
+        const int b = ws.order[j];
+        if (logw[b] == kNegInf || !close(a, b)) continue;
+        logw[a] = log_add(logw[a], logw[b]);  // eq. (30): w_a <- w_a + w_b
+        logw[b] = kNegInf;                    //            w_b <- 0
+        ++absorbed;
+      }
+    }
+    g0 = g1;
+  }
+  return absorbed;
+}
+
+/// Indices of the (at most) M particles with the largest finite log weights, written to `out` (cleared
+/// first), in decreasing weight order (prune step of Sec. V-A.3).
+inline void select_top(const double* logw, int n, int M, std::vector<int>& out) {
+  out.clear();
+  for (int i = 0; i < n; ++i)
+    if (logw[i] > -std::numeric_limits<double>::infinity()) out.push_back(i);
+  auto heavier = [&](int a, int b) { return logw[a] != logw[b] ? logw[a] > logw[b] : a < b; };
+  if (static_cast<int>(out.size()) > M) {
+    std::nth_element(out.begin(), out.begin() + M, out.end(), heavier);
+    out.resize(static_cast<std::size_t>(M));
+  }
+  std::sort(out.begin(), out.end(), heavier);
+}
+
+}  // namespace nlosloc::rbpf

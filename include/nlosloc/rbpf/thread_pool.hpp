@@ -1,0 +1,113 @@
+#pragma once
+/// \file thread_pool.hpp
+/// A fixed pool of worker threads created once (filters build it at construction, never per step).
+/// parallel_for(n, fn) splits [0, n) into one contiguous chunk per thread; the calling thread runs chunk 0,
+/// so a pool of size 1 has no worker and no synchronisation cost.
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "nlosloc/core/ensure.hpp"
+
+namespace nlosloc::rbpf {
+
+/// Persistent thread pool for the UKF bank and the particle filter.
+class ThreadPool {
+ public:
+  /// `threads` >= 1 (total threads including the caller).
+  explicit ThreadPool(int threads = 1) : size_(threads) {
+    NLOSLOC_ENSURE(threads >= 1, "threads: expected an integer >= 1, got " + std::to_string(threads));
+    for (int w = 1; w < threads; ++w) workers_.emplace_back([this, w] { loop(w); });
+  }
+  ~ThreadPool() {
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      stop_ = true;
+      ++gen_;
+    }
+    cv_.notify_all();
+    for (auto& t : workers_) t.join();
+  }
+  ThreadPool(const ThreadPool&) = delete;
+  ThreadPool& operator=(const ThreadPool&) = delete;
+
+  int size() const { return size_; }
+
+  /// Runs fn(begin, end, thread) on size() contiguous chunks of [0, n) and waits; the first exception
+  /// thrown by any chunk is rethrown here.
+  template <class Fn>
+  void parallel_for(int n, Fn&& fn) {
+    if (n <= 0) return;
+    if (size_ == 1 || n == 1) {
+      fn(0, n, 0);
+      return;
+    }
+    std::function<void(int, int, int)> job = [&fn](int b, int e, int t) { fn(b, e, t); };
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      job_ = &job;
+      n_ = n;
+      pending_ = size_ - 1;
+      error_ = nullptr;
+      ++gen_;
+    }
+    cv_.notify_all();
+    std::exception_ptr mine;
+    try {
+      run_chunk(0);
+    } catch (...) {
+      mine = std::current_exception();
+    }
+    std::unique_lock<std::mutex> lk(m_);
+    done_cv_.wait(lk, [this] { return pending_ == 0; });
+    job_ = nullptr;
+    if (mine) std::rethrow_exception(mine);
+    if (error_) std::rethrow_exception(error_);
+  }
+
+ private:
+  void run_chunk(int t) {
+    const int b = static_cast<int>(static_cast<long long>(n_) * t / size_);
+    const int e = static_cast<int>(static_cast<long long>(n_) * (t + 1) / size_);
+    if (b < e) (*job_)(b, e, t);
+  }
+  void loop(int w) {
+    unsigned long seen = 0;
+    for (;;) {
+      {
+        std::unique_lock<std::mutex> lk(m_);
+        cv_.wait(lk, [&] { return gen_ != seen; });
+        seen = gen_;
+        if (stop_) return;
+      }
+      std::exception_ptr err;
+      try {
+        run_chunk(w);
+      } catch (...) {
+        err = std::current_exception();
+      }
+      {
+        std::lock_guard<std::mutex> lk(m_);
+        if (err && !error_) error_ = err;
+        if (--pending_ == 0) done_cv_.notify_one();
+      }
+    }
+  }
+
+  int size_;
+  std::vector<std::thread> workers_;
+  std::mutex m_;
+  std::condition_variable cv_, done_cv_;
+  std::function<void(int, int, int)>* job_ = nullptr;
+  int n_ = 0;
+  int pending_ = 0;
+  unsigned long gen_ = 0;
+  bool stop_ = false;
+  std::exception_ptr error_;
+};
+
+}  // namespace nlosloc::rbpf

@@ -1,0 +1,108 @@
+#pragma once
+/// \file ukf_kernel.hpp
+/// The per-particle UKF of the RBPF bank (Huerta Table III, additive-noise form) as a workspace that
+/// updates a bare (mean, covariance) pair, so a bank of thousands of particles needs no filter objects.
+/// Split in two stages because, with additive noise, the sigma points of a parent and their images g(X)
+/// do not depend on the situation vector: prepare() predicts and evaluates them once per parent, finish()
+/// adds the situation's noise moments and applies the Kalman update (one small Cholesky per offspring).
+/// The math is that of nlosloc::Ukf::update (same sigma points from the predicted belief, same tail).
+#include "nlosloc/core/sigma_points.hpp"
+#include "nlosloc/filters/common.hpp"
+#include "nlosloc/filters/ukf.hpp"
+#include "nlosloc/models/measurement.hpp"
+
+namespace nlosloc::rbpf {
+
+/// Workspace for one thread: predict + unscented update of (x, P) given a situation vector.
+template <class Motion, class Meas = MeasurementStack>
+class UkfKernel {
+ public:
+  static constexpr int N = Motion::kDim;
+  static constexpr int K = 2 * N + 1;
+
+  /// Buffers sized for `meas`; later calls must pass a stack with the same rows (it may be another copy:
+  /// the kernel keeps no reference between prepare() calls, so the owning filter stays movable).
+  UkfKernel(const Meas& meas, const SigmaScheme& scheme) : meas_(&meas), w_(scheme.weights(N)) {
+    const int m = meas.rows();
+    tail_.resize(m);
+    Z_.setZero(m, K);
+    Zw_.setZero(m, K);
+    S0_.setZero(m, m);
+    Pxz0_.setZero(N, m);
+    zhat0_.setZero(m);
+    nmean_.setZero(m);
+    R_.setZero(m, m);
+    tmp_.setZero(m);
+  }
+
+  /// Stage 1 (Table III, first three items): x_p = F x, P_p = F P F^T + Q (exact, linear motion), sigma
+  /// points of (x_p, P_p) (eq. 49) and their predicted observations g(X) at time t. Returns the Cholesky
+  /// status; kFailed leaves the kernel unusable until the next prepare().
+  CholeskyStatus prepare(const Motion& motion, const Meas& meas, const Vec<N>& x, const Mat<N, N>& P,
+                         double t) {
+    meas_ = &meas;
+    xp_.noalias() = motion.F() * x;
+    Pp_.noalias() = motion.F() * P * motion.F().transpose();
+    Pp_ += motion.Q();
+    nlosloc::detail::symmetrize(Pp_);
+    Mat<N, N> L;
+    status_ = nlosloc::detail::factor_state_cov(Pp_, L, &jitter_);
+    if (status_ == CholeskyStatus::kFailed) return status_;
+    sigma_points(xp_, L, w_.gamma, X_);  // Huerta eq. (49)
+    for (int j = 0; j < K; ++j) {
+      auto zj = Z_.col(j);
+      meas_->predict(X_.col(j), t, zj);
+    }
+    nlosloc::detail::sigma_mean(*meas_, Z_, w_, zhat0_, tmp_);  // eq. (51)
+    for (int j = 0; j < K; ++j) {
+      Z_.col(j) -= zhat0_;
+      X_.col(j) -= xp_;
+    }
+    meas_->wrap_residual_cols(Z_);
+    Zw_ = Z_;
+    Zw_.col(0) *= w_.wc0;
+    Zw_.rightCols(K - 1) *= w_.wi;
+    S0_.noalias() = Zw_.lazyProduct(Z_.transpose());  // eq. (51) without the noise
+    Pxz0_.noalias() = X_.lazyProduct(Zw_.transpose());
+    return status_;
+  }
+
+  /// Stage 2: adds the noise moments of situation `s` (Table III.1 with additive noise), applies the Kalman
+  /// update with y and writes the posterior into (x_out, P_out). res.log_likelihood is the predictive
+  /// log N(y; y_hat, S) used by eq. (25). Returns false when S cannot be factorised.
+  bool finish(const VecXi& s, const VecX& y, Vec<N>& x_out, Mat<N, N>& P_out, StepResult& res) {
+    res = StepResult{};
+    res.status = status_;
+    res.jitter = jitter_;
+    meas_->noise_moments(xp_, s, nmean_, R_);
+    auto& t = tail_;
+    t.S = S0_;
+    t.S += R_;
+    t.Pxz = Pxz0_;
+    t.zhat = zhat0_;
+    t.zhat += nmean_;
+    x_out = xp_;
+    P_out = Pp_;
+    return t.apply(
+        y, [this](VecX& r) { meas_->wrap_residual(r); }, x_out, P_out, res);
+  }
+
+  /// Predicted mean F x of the last prepare().
+  const Vec<N>& predicted_mean() const { return xp_; }
+  const Mat<N, N>& predicted_cov() const { return Pp_; }
+
+ private:
+  const Meas* meas_;
+  SigmaWeights w_;
+  Vec<N> xp_;
+  Mat<N, N> Pp_;
+  Mat<N, K> X_;
+  MatX Z_, Zw_, S0_, R_;
+  Eigen::Matrix<double, N, Eigen::Dynamic> Pxz0_;
+  VecX zhat0_, nmean_, tmp_;
+  nlosloc::detail::UpdateTail<N> tail_;
+  CholeskyStatus status_ = CholeskyStatus::kOk;
+  double jitter_ = 0.0;
+};
+
+}  // namespace nlosloc::rbpf

@@ -1,0 +1,209 @@
+#pragma once
+/// \file k3.hpp
+/// Scenario K3 of reference/scenarios.md: Ke & Wu 2011 (papers/ke-wu2011-qp-ekf.md) Sec. 6.4, short range,
+/// node geometry: 4 nodes in a 100 x 100 m area (good: the corners; bad: almost collinear), range noise std
+/// 0.02 d_i, NLOS error exponential with mean 0.08 d_i, 1..4 NLOS nodes. Output: P(position error <= 5 m)
+/// (Figs. 6-7), for the proposed tracker, the iterated NLOS EKF and the EKF.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "nlosloc/sim/k1.hpp"
+#include "nlosloc/sim/metrics.hpp"
+#include "nlosloc/sim/montecarlo.hpp"
+#include "nlosloc/sim/scenario.hpp"
+
+namespace nlosloc::sim {
+
+/// Parameters of K3 (Ke & Wu Sec. 6.4 plus the choices listed by K3::choices()).
+struct K3Params {
+  Mat<4, 2> good = (Mat<4, 2>() << 0, 0, 100, 0, 0, 100, 100, 100).finished();  ///< Sec. 6.4, good geometry
+  Mat<4, 2> bad = (Mat<4, 2>() << 0, 0, 38, 39, 80, 81, 100, 100).finished();   ///< Sec. 6.4, bad geometry
+  double sigma_rel = 0.02;                 ///< Sec. 6.4: sigma_i = 0.02 d_i
+  double nlos_rel = 0.08;                  ///< Sec. 6.4: NLOS error exponential, mean lambda_i = 0.08 d_i
+  Vec<2> start{20.0, 20.0};                ///< choice (scenarios.md): start position (m)
+  Vec<2> velocity{0.1, 0.15};              ///< Sec. 6.4: (0.1, 0.15) m/s
+  double accel_var = 0.01;                 ///< Sec. 6.4: sigma_x^2 = sigma_y^2 = 0.01
+  int steps = 200;                         ///< Sec. 6.4: L = 200
+  double dt = 0.1;                         ///< Sec. 6.4: 0.1 s
+  int discard = 100;                       ///< choice: Sec. 6's "first 100 samples" rule kept
+  Vec<4> initial_std{2.0, 2.0, 0.1, 0.1};  ///< choice: initial belief std (m, m, m/s, m/s)
+  double threshold = 5.0;                  ///< Sec. 6.4: error threshold (m)
+  double gamma = 1.1;                      ///< Sec. 5: eq. (32)
+  double iterated_bias_prior_std = 10.0;   ///< choice: iterated NLOS EKF, prior std of each bias (m)
+  double iterated_bias_walk_std = 0.5;     ///< choice: iterated NLOS EKF, bias random walk (m/step)
+  int iterated_iterations = 3;             ///< choice: iterated NLOS EKF iterations
+};
+
+/// K3: cases "good/1NLOS" .. "good/4NLOS", "bad/1NLOS" .. "bad/4NLOS". The NLOS nodes of a case with j NLOS
+/// nodes are the last j of the geometry's list (choice, as K1). anchors() and measurements() describe the
+/// good geometry; anchors_of(case) gives each case's.
+class K3 : public Scenario {
+ public:
+  static constexpr const char* kProposed = K1::kProposed;
+  static constexpr const char* kIterated = K1::kIterated;
+  static constexpr const char* kEkf = K1::kEkf;
+
+  explicit K3(const K3Params& p = K3Params())
+      : p_(p),
+        motion_(p.dt, p.accel_var, VelocityNoise::kWhiteAcceleration),
+        stack_(ConstantVelocity2::layout(), p.good, 2) {
+    NLOSLOC_ENSURE(p.steps > p.discard && p.discard >= 0,
+                   "K3Params: expected 0 <= discard < steps, got discard " + std::to_string(p.discard));
+    // Descriptive stack (good geometry): noise std 0.02 d at the start, NLOS shifted by its mean 0.08 d.
+    for (int b = 0; b < 4; ++b) {
+      const double d = (p.start - p.good.row(b).transpose()).norm();
+      stack_.add_toa(b, {noise::Normal(0.0, p.sigma_rel * d),
+                         noise::ShiftedNormal(p.nlos_rel * d, std::hypot(p.sigma_rel * d, p.nlos_rel * d))});
+    }
+  }
+
+  std::string name() const override { return "K3"; }
+  std::string description() const override {
+    return "Ke & Wu 2011 Sec. 6.4: 100 x 100 m, 4 TOA nodes (good: corners; bad: almost collinear), noise "
+           "std 0.02 d, NLOS exponential mean 0.08 d, 1..4 NLOS nodes, L = 200, dt = 0.1 s; P(error <= 5 m)";
+  }
+  std::vector<std::string> choices() const override {
+    return {
+        "start (20, 20) m (scenarios.md choice), velocity exactly (0.1, 0.15) m/s, eq. (16) white "
+        "acceleration "
+        "variance 0.01 for the truth and the filters",
+        "NLOS nodes of a case with j NLOS nodes: the last j nodes of the geometry's list (good: (100, 100) "
+        "first; bad: (100, 100) first); NLOS for the whole run",
+        "z_i = d_i + n_i + b_i, n_i ~ N(0, (0.02 d_i)^2), b_i ~ Exp(mean 0.08 d_i), d_i the true distance, "
+        "drawn every step",
+        "initial belief: truth + N(0, diag(2^2, 2^2, 0.1^2, 0.1^2)), covariance the same; first 100 of 200 "
+        "samples left out (Sec. 6's rule); P(error <= 5 m) pooled over runs and samples k >= 100",
+        "all three filters: R_i = (0.02 d^_i)^2 with d^_i the range at the predicted position (the true "
+        "distance is unknown to them); EKF = the proposed tracker with mitigation off",
+        "iterated NLOS EKF: bias prior N(0, 10^2), random walk std 0.5 m/step, 3 iterations, b >= 0",
+    };
+  }
+  std::vector<std::string> cases() const override {
+    return {"good/1NLOS", "good/2NLOS", "good/3NLOS", "good/4NLOS",
+            "bad/1NLOS",  "bad/2NLOS",  "bad/3NLOS",  "bad/4NLOS"};
+  }
+  int steps() const override { return p_.steps; }
+  double dt() const override { return p_.dt; }
+  MatX anchors() const override { return p_.good; }
+  int discard() const override { return p_.discard; }
+  int state_dim() const override { return ConstantVelocity2::kDim; }
+  const MeasurementStack& measurements() const override { return stack_; }
+  std::string paper_source() const override {
+    return "Ke & Wu 2011 Sec. 6.4, Figs. 6-7 (qualitative): proposed P(error <= 5 m) > 85% with good "
+           "geometry for 1..4 NLOS nodes, about 3% lower with bad geometry; iterated NLOS EKF good only up "
+           "to "
+           "2 NLOS nodes; both baselines very poor with bad geometry";
+  }
+
+  const K3Params& params() const { return p_; }
+  const ConstantVelocity2& motion() const { return motion_; }
+  /// True for the bad-geometry cases (indices 4..7).
+  static bool bad_geometry(int c) { return c >= 4; }
+  /// Number of NLOS nodes of case c (1..4).
+  static int nlos_count(int c) { return c % 4 + 1; }
+  /// True when node b is NLOS in case c (the last nlos_count(c) nodes).
+  static bool is_nlos(int c, int b) { return b >= 4 - nlos_count(c); }
+  /// Anchors (4 x 2) of case c.
+  MatX anchors_of(int c) const { return bad_geometry(c) ? MatX(p_.bad) : MatX(p_.good); }
+
+ protected:
+  void generate(int c, int T, Rng& rng, Draw& d) const override {
+    constexpr int B = 4;
+    const Mat<4, 2> A = bad_geometry(c) ? p_.bad : p_.good;
+    d.states.resize(T, 4);
+    d.positions.resize(T, 2);
+    d.y.resize(T, B);
+    d.sight.resize(T, B);
+    d.quality.setConstant(T, B, std::numeric_limits<double>::quiet_NaN());
+    Vec<4> x;
+    x << p_.start, p_.velocity;
+    d.initial_mean.resize(4);
+    for (int i = 0; i < 4; ++i) d.initial_mean[i] = x[i] + p_.initial_std[i] * rng.normal();
+    d.initial_cov = p_.initial_std.array().square().matrix().asDiagonal();
+    const double sa = std::sqrt(p_.accel_var), dt = p_.dt;
+    for (int k = 0; k < T; ++k) {
+      if (k > 0) {
+        // Ke & Wu eq. (16)-(17).
+        const double ax = sa * rng.normal(), ay = sa * rng.normal();
+        x = motion_.F() * x;
+        x[0] += 0.5 * dt * dt * ax;
+        x[1] += 0.5 * dt * dt * ay;
+        x[2] += dt * ax;
+        x[3] += dt * ay;
+      }
+      d.states.row(k) = x.transpose();
+      d.positions.row(k) = x.head<2>().transpose();
+      for (int b = 0; b < B; ++b) {
+        const bool nlos = is_nlos(c, b);
+        const double dist = (x.head<2>() - A.row(b).transpose()).norm();
+        // Ke & Wu eq. (1), Sec. 6.4: n ~ N(0, (0.02 d)^2), b ~ Exp(mean 0.08 d) by inversion.
+        double z = dist + p_.sigma_rel * dist * rng.normal();
+        if (nlos) z += -p_.nlos_rel * dist * std::log(rng.uniform());
+        d.y(k, b) = z;
+        d.sight(k, b) = nlos ? 1 : 0;
+      }
+    }
+  }
+
+ private:
+  K3Params p_;
+  ConstantVelocity2 motion_;
+  MeasurementStack stack_;
+};
+
+/// K3 "proposed": QP-bias EKF with R_i = (0.02 d^_i)^2 and gamma = 1.1, on the case's geometry.
+inline std::unique_ptr<Estimator> make_k3_proposed(const K3& s, int c) {
+  mitigation::QpBiasEkfOptions o;
+  o.gamma = s.params().gamma;
+  o.noise.sigma0 = 0.0;
+  o.noise.relative = s.params().sigma_rel;
+  return std::make_unique<QpBiasEkfEstimator>(
+      K3::kProposed, mitigation::QpBiasEkf(s.motion(), s.anchors_of(c), Gaussian<4>(), o));
+}
+/// K3 "iterated-NLOS-EKF".
+inline std::unique_ptr<Estimator> make_k3_iterated(const K3& s, int c) {
+  mitigation::BiasAugmentedEkfOptions o;
+  o.noise.sigma0 = 0.0;
+  o.noise.relative = s.params().sigma_rel;
+  o.bias_prior_std = s.params().iterated_bias_prior_std;
+  o.bias_walk_std = s.params().iterated_bias_walk_std;
+  o.iterations = s.params().iterated_iterations;
+  return std::make_unique<BiasAugmentedEkfEstimator>(
+      K3::kIterated, mitigation::BiasAugmentedEkf(s.motion(), s.anchors_of(c), Gaussian<4>(), o));
+}
+/// K3 "EKF": eqs. (20)-(24) with the same R model (the proposed tracker with mitigation off).
+inline std::unique_ptr<Estimator> make_k3_ekf(const K3& s, int c) {
+  mitigation::QpBiasEkfOptions o;
+  o.mitigate = false;
+  o.noise.sigma0 = 0.0;
+  o.noise.relative = s.params().sigma_rel;
+  return std::make_unique<QpBiasEkfEstimator>(
+      K3::kEkf, mitigation::QpBiasEkf(s.motion(), s.anchors_of(c), Gaussian<4>(), o));
+}
+
+/// Registers K3 and its estimators (one line each).
+inline void register_k3(Registry& r) {
+  r.add_scenario<K3>();
+  if (mitigation::have_default_box_qp()) r.add_estimator<K3>("K3", K3::kProposed, make_k3_proposed);
+  r.add_estimator<K3>("K3", K3::kIterated, make_k3_iterated);
+  r.add_estimator<K3>("K3", K3::kEkf, make_k3_ekf);
+}
+
+/// One line per estimator: P(position error <= threshold) pooled over runs and samples k >= discard
+/// (Ke & Wu Sec. 6.4, Figs. 6-7).
+inline std::string format_k3_probability(const MonteCarloResult& r, double threshold = 5.0) {
+  std::string out;
+  char b[256];
+  for (const auto& e : r.estimators) {
+    const double p = probability_within(pooled_errors(e.errors, r.discard), threshold);
+    std::snprintf(b, sizeof b, "  K3 %-11s %-20s P(error <= %g m) = %.3f\n", r.case_name.c_str(),
+                  e.name.c_str(), threshold, p);
+    out += b;
+  }
+  return out;
+}
+
+}  // namespace nlosloc::sim

@@ -1,0 +1,74 @@
+#pragma once
+/// \file quality.hpp
+/// Quality-statistic likelihoods p(o | s) (Huerta Sec. IV-C, Fig. 6; Grisales p(zeta | z), eq. 36): one
+/// noise::Distribution per sight condition, any family of the noise library including the empirical
+/// (kernel density) one fitted to a measurement campaign. A missing statistic (NaN) carries no information:
+/// its log-likelihood is 0 for every condition.
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "nlosloc/core/random.hpp"
+#include "nlosloc/core/types.hpp"
+#include "nlosloc/models/noise.hpp"
+
+namespace nlosloc::situation {
+
+/// p(o | s = z) for z = 0..N_z-1, the same for every anchor.
+class QualityModel {
+ public:
+  using Dist = noise::Distribution;
+
+  /// `per_condition`: one distribution per condition (N_z >= 1), LOS first.
+  explicit QualityModel(std::vector<Dist> per_condition) : d_(std::move(per_condition)) {
+    NLOSLOC_ENSURE(!d_.empty(), "per_condition: expected one distribution per sight condition (N_z >= 1)");
+  }
+
+  int num_conditions() const { return static_cast<int>(d_.size()); }
+  const Dist& distribution(int z) const {
+    NLOSLOC_ENSURE(z >= 0 && z < num_conditions(),
+                   "z: expected a condition in [0, N_z), got " + std::to_string(z));
+    return d_[static_cast<std::size_t>(z)];
+  }
+
+  /// log p(o | s = z); 0 when o is NaN (missing); -inf outside the support.
+  double log_likelihood(double o, int z) const {
+    if (std::isnan(o)) return 0.0;
+    return distribution(z).log_pdf(o);
+  }
+  /// log p(o | s = z) for every z into `out` (size N_z).
+  void log_likelihoods(double o, Eigen::Ref<VecX> out) const {
+    nlosloc::detail::ensure_shape(out, num_conditions(), 1, "out");
+    for (int z = 0; z < num_conditions(); ++z)
+      out(z) = std::isnan(o) ? 0.0 : d_[static_cast<std::size_t>(z)].log_pdf(o);
+  }
+  /// B x N_z table L(b, z) = log p(o_b | s_b = z) for the statistics of all anchors (`o`, size B).
+  void log_likelihood_table(const Eigen::Ref<const VecX>& o, MatX& out) const {
+    const int nz = num_conditions();
+    if (out.rows() != o.size() || out.cols() != nz) out.resize(o.size(), nz);
+    for (Eigen::Index b = 0; b < o.size(); ++b)
+      for (int z = 0; z < nz; ++z)
+        out(b, z) = std::isnan(o(b)) ? 0.0 : d_[static_cast<std::size_t>(z)].log_pdf(o(b));
+  }
+  /// log p(o | s) = sum_b log p(o_b | s_b) (anchors independent given s).
+  double log_likelihood(const Eigen::Ref<const VecX>& o, const Eigen::Ref<const VecXi>& s) const {
+    NLOSLOC_ENSURE(o.size() == s.size(), "o, s: expected the same number of anchors");
+    double l = 0.0;
+    for (Eigen::Index b = 0; b < o.size(); ++b) l += log_likelihood(o(b), s(b));
+    return l;
+  }
+  /// Draws a statistic under condition z (simulation).
+  double sample(int z, Rng& rng) const { return distribution(z).sample(rng); }
+  /// Draws one statistic per anchor for the situation vector s.
+  VecX sample(const Eigen::Ref<const VecXi>& s, Rng& rng) const {
+    VecX o(s.size());
+    for (Eigen::Index b = 0; b < s.size(); ++b) o(b) = sample(s(b), rng);
+    return o;
+  }
+
+ private:
+  std::vector<Dist> d_;
+};
+
+}  // namespace nlosloc::situation

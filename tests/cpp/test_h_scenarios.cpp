@@ -1,0 +1,180 @@
+// Scenarios H1 and H2 (Huerta et al. 2009 Sec. VI): draws reproducible and prefix-consistent, the measured
+// NLOS fraction against eq. (18), geometry and noise of the draws, and seeded accuracy of the baselines on
+// short runs.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "nlosloc/sim/h1.hpp"
+#include "nlosloc/sim/h2.hpp"
+#include "nlosloc/sim/metrics.hpp"
+#include "nlosloc/sim/montecarlo.hpp"
+#include "nlosloc/sim/registry.hpp"
+
+using namespace nlosloc;
+using namespace nlosloc::sim;
+using Catch::Matchers::WithinAbs;
+
+template class nlosloc::sim::RbpfEstimator<ConstantVelocity2>;
+template class nlosloc::sim::RbpfEstimator<ConstantVelocityClock2>;
+
+namespace {
+bool same(const RowMatX& a, const RowMatX& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         ((a.array() == b.array()) || (a.array().isNaN() && b.array().isNaN())).all();
+}
+double nlos_fraction(const Scenario& s, int runs, int steps = 0) {
+  double n = 0.0, tot = 0.0;
+  for (int r = 0; r < runs; ++r) {
+    const Draw d = s.draw("default", 7, static_cast<std::uint64_t>(r), steps);
+    n += d.sight.cast<double>().sum();
+    tot += static_cast<double>(d.sight.size());
+  }
+  return n / tot;
+}
+double p67(const MonteCarloResult& r, const std::string& name) {
+  return percentile(pooled_errors(r.estimator(name).errors, r.discard), 67.0);
+}
+}  // namespace
+
+TEST_CASE("H1 and H2 are registered with the paper's estimators", "[h-scenarios]") {
+  const Registry& reg = registry();
+  REQUIRE(reg.has_scenario("H1"));
+  REQUIRE(reg.has_scenario("H2"));
+  const auto e1 = reg.estimators("H1");
+  for (const char* n : {"MLE-LOS", "EKF-LOS"}) CHECK(std::find(e1.begin(), e1.end(), n) != e1.end());
+  const auto e2 = reg.estimators("H2");
+  for (const char* n : {"EKF-LOS", "CHEN", "CONG", "URR"})
+    CHECK(std::find(e2.begin(), e2.end(), n) != e2.end());
+  CHECK(reg.scenario("H1").choices().size() >= 6);
+  CHECK(reg.scenario("H2").choices().size() >= 6);
+}
+
+TEST_CASE("H1/H2 draws are reproducible and a shorter draw is a prefix", "[h-scenarios]") {
+  const H1 h1;
+  const H2 h2;
+  for (const Scenario* s : {static_cast<const Scenario*>(&h1), static_cast<const Scenario*>(&h2)}) {
+    const Draw a = s->draw("default", 3, 5, 800), b = s->draw("default", 3, 5, 800);
+    CHECK(same(a.y, b.y));
+    CHECK(same(a.states, b.states));
+    CHECK((a.sight.array() == b.sight.array()).all());
+    CHECK(same(a.quality, b.quality));
+    const Draw c = s->draw("default", 3, 5, 300);
+    CHECK(same(c.y, RowMatX(a.y.topRows(300))));
+    CHECK((c.sight.array() == a.sight.topRows(300).array()).all());
+    CHECK(same(RowMatX(c.initial_mean.transpose()), RowMatX(a.initial_mean.transpose())));
+    const Draw other = s->draw("default", 3, 6, 300);
+    CHECK_FALSE(same(other.y, c.y));
+  }
+}
+
+TEST_CASE("H1 geometry: constant velocity, one serving sector per step, NLOS fraction near eq. (18)",
+          "[h-scenarios]") {
+  const H1 h1;
+  const Draw d = h1.draw("default", 1, 0);
+  REQUIRE(d.steps() == 20000);
+  CHECK_THAT(d.positions(0, 0), WithinAbs(-1000.0, 1e-9));
+  CHECK_THAT(d.positions(19999, 0), WithinAbs(-1000.0 + 10.0 * 0.01 * 19999, 1e-6));
+  CHECK_THAT(d.positions(19999, 1), WithinAbs(400.0, 1e-9));
+  int changes = 0, prev = -1;
+  for (int k = 0; k < d.steps(); ++k) {
+    int present = 0, which = -1;
+    for (int j = 0; j < 3; ++j)
+      if (!std::isnan(d.y(k, 1 + j))) {
+        ++present;
+        which = j;
+      }
+    REQUIRE(present == 1);
+    REQUIRE(!std::isnan(d.y(k, 0)));
+    if (prev >= 0 && which != prev) ++changes;
+    prev = which;
+  }
+  CHECK(changes == 2);  // 210 -> 90 -> 330 deg sectors (Fig. 10 discontinuities)
+  // eq. (18): p_N = 5 / 35; measured over 40 runs of 200 s.
+  const double f = nlos_fraction(h1, 40);
+  CHECK(std::abs(f - 5.0 / 35.0) < 0.03);
+}
+
+TEST_CASE("H1 noise: LOS TOA error N(0, 10), NLOS error Rayleigh mean 85.6 m, quality Beta means",
+          "[h-scenarios]") {
+  const H1 h1;
+  double e_los = 0, e2_los = 0, n_los = 0, e_nlos = 0, n_nlos = 0, o_los = 0, o_nlos = 0;
+  for (int r = 0; r < 5; ++r) {
+    const Draw d = h1.draw("default", 2, static_cast<std::uint64_t>(r));
+    for (int k = 0; k < d.steps(); ++k) {
+      const double e = d.y(k, 0) - d.positions.row(k).norm();
+      if (d.sight(k, 0) == 0) {
+        e_los += e;
+        e2_los += e * e;
+        o_los += d.quality(k, 0);
+        ++n_los;
+      } else {
+        e_nlos += e;
+        o_nlos += d.quality(k, 0);
+        ++n_nlos;
+      }
+    }
+  }
+  REQUIRE(n_nlos > 1000);
+  CHECK(std::abs(e_los / n_los) < 0.1);
+  CHECK_THAT(e2_los / n_los, WithinAbs(10.0, 0.5));
+  CHECK_THAT(e_nlos / n_nlos, WithinAbs(std::sqrt(2.0 * 2000.0 / (4.0 - kPi)) * std::sqrt(kPi / 2.0), 3.0));
+  CHECK_THAT(o_los / n_los, WithinAbs(4.0 / 5.5, 0.01));
+  CHECK_THAT(o_nlos / n_nlos, WithinAbs(1.5 / 5.5, 0.02));
+}
+
+TEST_CASE("H2 geometry and sight: hexagon, clock in the RTOA, NLOS fraction near 0.5", "[h-scenarios]") {
+  const H2 h2;
+  const MatX a = h2.anchors();
+  REQUIRE(a.rows() == 6);
+  for (int b = 0; b < 6; ++b) CHECK_THAT(a.row(b).norm(), WithinAbs(3000.0, 1e-9));
+  CHECK_THAT((a.row(0) - a.row(1)).norm(), WithinAbs(3000.0, 1e-9));
+  const Draw d = h2.draw("default", 4, 0, 2000);
+  // LOS rows: y - ||p - q|| - tau ~ N(0, 10).
+  double s = 0, s2 = 0, n = 0;
+  for (int k = 0; k < d.steps(); ++k)
+    for (int b = 0; b < 6; ++b)
+      if (d.sight(k, b) == 0) {
+        const double e = d.y(k, b) - (d.positions.row(k) - a.row(b)).norm() - d.states(k, 2);
+        s += e;
+        s2 += e * e;
+        ++n;
+      }
+  CHECK(std::abs(s / n) < 0.3);
+  CHECK_THAT(s2 / n, WithinAbs(10.0, 1.0));
+  CHECK(std::abs(nlos_fraction(h2, 30, 3000) - 0.5) < 0.06);
+  CHECK_THAT(h2.urr_switch_probability(), WithinAbs(0.05 / 10.05, 1e-12));
+  CHECK_THAT(h2.urr_nlos_span(), WithinAbs(327.5, 0.5));
+}
+
+TEST_CASE("H1 baselines: seeded accuracy on short runs", "[h-scenarios]") {
+  MonteCarloOptions opt;
+  opt.runs = 4;
+  opt.seed = 11;
+  opt.threads = 2;
+  opt.steps = 3000;
+  const MonteCarloResult r = run_monte_carlo(registry(), "H1", "default", {"MLE-LOS", "EKF-LOS"}, opt);
+  const double mle = p67(r, "MLE-LOS"), ekf = p67(r, "EKF-LOS");
+  INFO("MLE-LOS p67 " << mle << ", EKF-LOS p67 " << ekf);
+  CHECK(mle < 20.0);
+  CHECK(ekf < 40.0);
+  CHECK(r.estimator("MLE-LOS").sight_accuracy.size() == 0);  // MLE-LOS does not classify sight
+}
+
+TEST_CASE("H2 baselines: seeded accuracy on short runs, CONG/URR classify sight", "[h-scenarios]") {
+  MonteCarloOptions opt;
+  opt.runs = 2;
+  opt.seed = 12;
+  opt.threads = 2;
+  opt.steps = 400;
+  const MonteCarloResult r =
+      run_monte_carlo(registry(), "H2", "default", {"EKF-LOS", "CHEN", "CONG", "URR"}, opt);
+  for (const char* n : {"EKF-LOS", "CHEN", "CONG", "URR"}) {
+    INFO(n << " p67 " << p67(r, n));
+    CHECK(p67(r, n) < 200.0);
+  }
+  CHECK(r.estimator("CONG").sight_accuracy.size() > 0);
+  CHECK(r.estimator("URR").sight_accuracy.size() > 0);
+  CHECK(r.estimator("URR").sight_anchor_accuracy.mean() > 0.5);
+}

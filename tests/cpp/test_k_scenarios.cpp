@@ -1,0 +1,130 @@
+// Scenarios K1-K3 of Ke & Wu 2011 with the three algorithms: registration, draws (K2 switching, K3 geometry
+// and noise), and accuracy thresholds on short seeded runs.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "nlosloc/sim/k1.hpp"
+#include "nlosloc/sim/k2.hpp"
+#include "nlosloc/sim/k3.hpp"
+#include "nlosloc/sim/metrics.hpp"
+#include "nlosloc/sim/montecarlo.hpp"
+
+using namespace nlosloc;
+using namespace nlosloc::sim;
+
+namespace {
+/// K1-K3 only (the built-in registry also holds scenarios of other issues).
+const Registry& kreg() {
+  static const Registry r = [] {
+    Registry reg;
+    register_k1(reg);
+    register_k2(reg);
+    register_k3(reg);
+    return reg;
+  }();
+  return r;
+}
+double p67(const MonteCarloResult& r, const std::string& e, int discard) {
+  return percentile(pooled_errors(r.estimator(e).errors, discard), 67.0);
+}
+}  // namespace
+
+TEST_CASE("K1, K2, K3 are registered with the three algorithms of Ke & Wu", "[sim][kscen]") {
+  const Registry& reg = kreg();
+  for (const char* s : {"K1", "K2", "K3"}) {
+    REQUIRE(reg.has_scenario(s));
+    std::vector<std::string> e = reg.estimators(s);
+    std::sort(e.begin(), e.end());
+    CHECK(e == std::vector<std::string>{"EKF", "iterated-NLOS-EKF", "proposed"});
+  }
+}
+
+TEST_CASE("K2 draws switch every node every 200 samples, starting NLOS", "[sim][kscen]") {
+  const K2 k2;
+  const Draw d = k2.draw("alternating", 3, 0, 650);
+  for (int k : {0, 199, 400, 599}) CHECK(d.sight.row(k).minCoeff() == 1);
+  for (int k : {200, 399, 600, 649}) CHECK(d.sight.row(k).maxCoeff() == 0);
+  // NLOS ranges carry the N(513, 436^2) bias: mean excess over the true distance far above LOS's.
+  double nl = 0, lo = 0;
+  for (int k = 0; k < 400; ++k) {
+    const double e = d.y(k, 0) - (d.positions.row(k) - k2.anchors().row(0)).norm();
+    (k < 200 ? nl : lo) += e / 200.0;
+  }
+  CHECK(nl > 300.0);
+  CHECK(std::abs(lo) < 20.0);
+}
+
+TEST_CASE("K3 cases: geometry, NLOS node count, distance-proportional noise", "[sim][kscen]") {
+  const K3 k3;
+  REQUIRE(k3.cases().size() == 8);
+  CHECK(K3::nlos_count(0) == 1);
+  CHECK(K3::nlos_count(7) == 4);
+  CHECK(K3::bad_geometry(5));
+  CHECK(k3.anchors_of(5)(1, 0) == 38.0);
+  const Draw d = k3.draw("bad/2NLOS", 1, 0);
+  CHECK(d.y.cols() == 4);
+  CHECK(d.sight.row(0) == (Eigen::RowVectorXi(4) << 0, 0, 1, 1).finished());
+  // LOS node 0 at ~28 m: noise std 0.02 d ~ 0.57 m; NLOS node 3 at ~113 m: mean excess 0.08 d ~ 9 m.
+  double e0 = 0, e3 = 0;
+  const MatX A = k3.anchors_of(5);
+  for (int k = 0; k < d.steps(); ++k) {
+    e0 += std::abs(d.y(k, 0) - (d.positions.row(k) - A.row(0)).norm()) / d.steps();
+    e3 += (d.y(k, 3) - (d.positions.row(k) - A.row(3)).norm()) / d.steps();
+  }
+  CHECK(e0 < 1.5);
+  CHECK(e3 > 6.0);
+  CHECK(e3 < 12.0);
+}
+
+TEST_CASE("K1 short seeded runs: proposed well below EKF with three NLOS nodes, close to it in LOS",
+          "[sim][kscen][accuracy]") {
+  const Registry& reg = kreg();
+  MonteCarloOptions o;
+  o.runs = 4;
+  o.seed = 7;
+  o.threads = 2;
+  o.steps = 600;
+  const auto los = run_monte_carlo(reg, "K1", "3LOS/0NLOS", {}, o);
+  CHECK(p67(los, "proposed", 100) < 1.5 * p67(los, "EKF", 100));
+  CHECK(p67(los, "proposed", 100) < 30.0);
+  const auto nlos = run_monte_carlo(reg, "K1", "0LOS/3NLOS", {}, o);
+  CHECK(p67(nlos, "proposed", 100) < 0.7 * p67(nlos, "EKF", 100));
+  // The proposed tracker identifies NLOS on (almost) every sample when every node is NLOS.
+  REQUIRE(nlos.estimator("proposed").sight_anchor_accuracy.size() > 0);
+  CHECK(nlos.estimator("proposed").sight_anchor_accuracy.mean() > 0.95);
+}
+
+TEST_CASE("K3 short seeded runs: proposed P(error <= 5 m) high with good geometry",
+          "[sim][kscen][accuracy]") {
+  const Registry& reg = kreg();
+  MonteCarloOptions o;
+  o.runs = 10;
+  o.seed = 3;
+  o.threads = 2;
+  for (const char* c : {"good/1NLOS", "good/4NLOS"}) {
+    const auto r = run_monte_carlo(reg, "K3", c, {}, o);
+    CHECK(probability_within(pooled_errors(r.estimator("proposed").errors, r.discard), 5.0) > 0.85);
+  }
+  const auto bad = run_monte_carlo(reg, "K3", "bad/3NLOS", {}, o);
+  const double pp = probability_within(pooled_errors(bad.estimator("proposed").errors, bad.discard), 5.0);
+  const double pe = probability_within(pooled_errors(bad.estimator("EKF").errors, bad.discard), 5.0);
+  CHECK(pp > pe + 0.3);
+}
+
+TEST_CASE("K2 study: identification per sample, ranging and position errors", "[sim][kscen]") {
+  const K2Study st = run_k2_study(kreg(), 2, 1, 600);
+  REQUIRE(st.estimators.size() == 3);
+  CHECK(st.estimators[0].name == "proposed");
+  REQUIRE(st.estimators[0].identification.size() == 600);
+  CHECK(st.estimators[1].identification.size() == 0);
+  // NLOS blocks are identified on almost every sample after the transient.
+  double acc = 0;
+  for (int k = 100; k < 200; ++k) acc += st.estimators[0].identification[k] / 100.0;
+  CHECK(acc > 0.9);
+  CHECK(st.estimators[0].range_error.allFinite());
+  const std::string txt = format_k2_study(st);
+  CHECK(txt.find("ident NLOS") != std::string::npos);
+}

@@ -1,0 +1,258 @@
+// Ke & Wu 2011 mitigation (mitigation/*.hpp): eqs. (10)-(15) against hand-computed values on a small
+// geometry, the QP adapter, the innovation test (31)-(32), the fallbacks (inconsistent ranges, QP failure,
+// no common region) with their flags and a finite state, and the bias-augmented EKF.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <memory>
+
+#include "nlosloc/mitigation/mitigation.hpp"
+
+using namespace nlosloc;
+using namespace nlosloc::mitigation;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
+
+namespace {
+MatX small_anchors() { return (MatX(3, 2) << 0, 0, 10, 0, 0, 10).finished(); }
+// Exact ranges from (3, 4): 5, sqrt(65), sqrt(45).
+VecX exact_ranges() { return (VecX(3) << 5.0, std::sqrt(65.0), std::sqrt(45.0)).finished(); }
+Gaussian<4> belief_at(double x, double y) {
+  Gaussian<4> g;
+  g.mean << x, y, 0, 0;
+  g.cov = Mat<4, 4>::Identity();
+  return g;
+}
+ConstantVelocity2 motion() { return ConstantVelocity2(0.1, 1.0, VelocityNoise::kWhiteAcceleration); }
+double qp_objective(const MatX& L, const MatX& Sg, const VecX& r, const VecX& b) {
+  const VecX e = r - L * b;
+  return e.dot(Sg * e);  // eq. (14) objective with the generalised inverse of Sigma_v
+}
+}  // namespace
+
+TEST_CASE("reference point: vertices of the discs' common region, and the documented fallbacks",
+          "[mitigation][reference]") {
+  const MatX A = small_anchors();
+  // Exact ranges: the three circles meet at (3, 4), the only vertex.
+  ReferencePoint rp = reference_point(A, exact_ranges());
+  CHECK(rp.kind == ReferenceKind::kFeasibleVertices);
+  CHECK_THAT(rp.point[0], WithinAbs(3.0, 1e-9));
+  CHECK_THAT(rp.point[1], WithinAbs(4.0, 1e-9));
+  // Three equal discs of radius 8 around the corners: vertices (mean of the three inner intersections).
+  const VecX z8 = VecX::Constant(3, 8.0);
+  rp = reference_point(A, z8);
+  CHECK(rp.kind == ReferenceKind::kFeasibleVertices);
+  CHECK(rp.vertices == 3);
+  // Hand: circles 1-2 meet at (5, sqrt(39)); 1-3 at (sqrt(39), 5); 2-3 at (5 -/+ ..) on the line y = x:
+  // x = 5 - sqrt(64 - 50) / sqrt(2) = 5 - sqrt(7) (the one inside disc 1).
+  const double v = 5.0 - std::sqrt(7.0);
+  CHECK_THAT(rp.point[0], WithinAbs((5.0 + std::sqrt(39.0) + v) / 3.0, 1e-9));
+  CHECK_THAT(rp.point[1], WithinAbs((std::sqrt(39.0) + 5.0 + v) / 3.0, 1e-9));
+  // Disjoint discs (z1 + z2 < l12): no common point -> hint, else least squares.
+  const VecX zbad = (VecX(3) << 3.0, 3.0, 6.0).finished();
+  const Vec<2> hint(1.0, 2.0);
+  rp = reference_point(A, zbad, &hint);
+  CHECK(rp.kind == ReferenceKind::kHint);
+  CHECK(rp.point == hint);
+  rp = reference_point(A, zbad);
+  CHECK(rp.kind == ReferenceKind::kLeastSquares);
+  CHECK(rp.point.allFinite());
+}
+
+TEST_CASE("eqs. (10)-(15) on a small geometry match hand-computed values", "[mitigation][bias]") {
+  BiasEstimator est(small_anchors());
+  const VecX z = exact_ranges();
+  const BiasEstimate& e = est.estimate(z, VecX::Ones(3));
+  REQUIRE(e.flags == kFlagNone);
+  // Eq. (10): rows (X0 - a_i)^T / ||X0 - a_i|| at X0 = (3, 4).
+  MatX H0(3, 2);
+  H0 << 0.6, 0.8, -7.0 / std::sqrt(65.0), 4.0 / std::sqrt(65.0), 3.0 / std::sqrt(45.0),
+      -6.0 / std::sqrt(45.0);
+  CHECK(est.H0().isApprox(H0, 1e-12));
+  // Eq. (11) with R = I: U = -(H0^T H0)^-1 H0^T (numbers from an independent numpy computation).
+  MatX U(2, 3);
+  U << -0.6176470588235293, 0.6165255925169478, -0.21045345670586255, -0.6029411764705882,
+      -0.16598765952379363, 0.48667361863230707;
+  CHECK(est.U().isApprox(U, 1e-12));
+  CHECK(((est.U() * est.H0()) + Mat<2, 2>::Identity()).norm() < 1e-12);  // -U H0 = I
+  // Eq. (12): L = I + H0 U, a projector with L H0 = 0; r = L y = 0 for exact ranges.
+  MatX L(3, 3);
+  L << 0.1470588235294118, 0.23712522789113377, 0.26306682088232813, 0.23712522789113377, 0.38235294117647056,
+      0.42418250299576343, 0.2630668208823282, 0.4241825029957634, 0.47058823529411775;
+  CHECK(est.L().isApprox(L, 1e-12));
+  CHECK((est.L() * est.H0()).norm() < 1e-12);
+  CHECK((est.L() * est.L() - est.L()).norm() < 1e-12);
+  CHECK(est.r().norm() < 1e-9);
+  CHECK_THAT(e.x_tilde[0], WithinAbs(3.0, 1e-9));
+  CHECK_THAT(e.x_tilde[1], WithinAbs(4.0, 1e-9));
+  // Eq. (13): Sigma_v = L R L^T (R = I: = L), rank M - 2 = 1; R^-1 L is a generalised inverse.
+  CHECK(est.sigma_v().isApprox(L, 1e-12));
+  const MatX& Sv = est.sigma_v();
+  CHECK((Sv * est.sigma_v_ginv() * Sv - Sv).norm() < 1e-12);
+  Eigen::SelfAdjointEigenSolver<MatX> es(Sv);
+  CHECK_THAT(es.eigenvalues()[2], WithinAbs(1.0, 1e-12));
+  CHECK(std::abs(es.eigenvalues()[0]) < 1e-12);
+  CHECK(std::abs(es.eigenvalues()[1]) < 1e-12);
+  // Eq. (15): b_i^U = min_j (z_i + z_j - l_ij).
+  CHECK_THAT(e.upper[0], WithinAbs(5.0 + std::sqrt(45.0) - 10.0, 1e-12));
+  CHECK_THAT(e.upper[1], WithinAbs(std::sqrt(65.0) + std::sqrt(45.0) - std::sqrt(200.0), 1e-12));
+  CHECK_THAT(e.upper[2], WithinAbs(std::sqrt(65.0) + std::sqrt(45.0) - std::sqrt(200.0), 1e-12));
+  CHECK(e.lower.isZero());
+  // Eq. (14): with exact ranges the only feasible zero-residual point is b = 0.
+  REQUIRE(e.qp.ok());
+  CHECK(e.bias.cwiseAbs().maxCoeff() < 1e-6);
+}
+
+TEST_CASE("eq. (14) with a biased range: objective at its minimum, bounds respected", "[mitigation][bias]") {
+  BiasEstimator est(small_anchors());
+  VecX z = exact_ranges();
+  z[2] += 1.5;  // NLOS bias on anchor 3
+  const VecX var = (VecX(3) << 0.04, 0.09, 0.01).finished();
+  const BiasEstimate& e = est.estimate(z, var);
+  REQUIRE(e.qp.ok());
+  CHECK(e.flags == kFlagNone);
+  CHECK((e.bias.array() >= e.lower.array() - 1e-12).all());
+  CHECK((e.bias.array() <= e.upper.array() + 1e-12).all());
+  const double f_hat = qp_objective(est.L(), est.sigma_v_ginv(), est.r(), e.bias);
+  CHECK(f_hat <= qp_objective(est.L(), est.sigma_v_ginv(), est.r(), VecX::Zero(3)) + 1e-12);
+  // The rank-1 objective reaches 0 inside the box (the true bias is feasible): b^ attains it.
+  CHECK(f_hat < 1e-6);
+  // Sigma_v = L R L^T for a non-identity R, and the generalised-inverse identity still holds.
+  const MatX Sv = est.L() * var.asDiagonal() * est.L().transpose();
+  CHECK(est.sigma_v().isApprox(Sv, 1e-12));
+  CHECK((Sv * est.sigma_v_ginv() * Sv - Sv).norm() < 1e-12 * Sv.norm());
+}
+
+TEST_CASE("inconsistent ranges: eq. (15) lower > upper is clamped and flagged, result finite",
+          "[mitigation][fallback]") {
+  BiasEstimator est(small_anchors());
+  const VecX z = (VecX(3) << 3.0, 3.0, 6.0).finished();  // z1 + z2 < l12 = 10
+  const Vec<2> hint(2.0, 2.0);
+  const BiasEstimate& e = est.estimate(z, VecX::Ones(3), &hint);
+  CHECK((e.flags & kFlagBoundsClamped) != 0);
+  CHECK((e.flags & kFlagReferenceFallback) != 0);
+  CHECK(e.upper[0] == 0.0);
+  CHECK(e.upper[1] == 0.0);
+  CHECK(e.bias.allFinite());
+  CHECK((e.bias.array() >= 0.0).all());
+  CHECK((e.bias.array() <= e.upper.array()).all());
+
+  // The tracker on the same inconsistent ranges: flags propagate, the state stays finite.
+  QpBiasEkfOptions o;
+  o.noise.sigma0 = 0.1;
+  o.always_estimate = true;
+  QpBiasEkf f(motion(), small_anchors(), belief_at(3, 4), o);
+  const MitigationStep s = f.update(z);
+  CHECK((s.flags & kFlagBoundsClamped) != 0);
+  CHECK(s.bias_estimated);
+  CHECK(f.mean().allFinite());
+  CHECK(f.cov().allFinite());
+}
+
+TEST_CASE("QP failure: b = 0, flag set, update equals the plain EKF's", "[mitigation][fallback]") {
+  QpBiasEkfOptions o;
+  o.noise.sigma0 = 0.5;
+  o.always_estimate = true;
+  QpBiasEkf f(motion(), small_anchors(), belief_at(2.5, 4.5), o, std::make_unique<FailingBoxQp>(3));
+  QpBiasEkfOptions plain = o;
+  plain.mitigate = false;
+  QpBiasEkf g(motion(), small_anchors(), belief_at(2.5, 4.5), plain);
+  VecX z = exact_ranges();
+  z[1] += 3.0;
+  const MitigationStep s = f.update(z);
+  g.update(z);
+  CHECK((s.flags & kFlagQpFailed) != 0);
+  CHECK(s.bias_estimated);
+  CHECK(f.bias().isZero());
+  CHECK(f.mean().allFinite());
+  CHECK(f.mean().isApprox(g.mean(), 1e-12));
+  CHECK(f.cov().isApprox(g.cov(), 1e-12));
+  // A wrong-sized solver is rejected, naming the argument.
+  CHECK_THROWS_WITH(
+      QpBiasEkf(motion(), small_anchors(), belief_at(0, 0), o, std::make_unique<FailingBoxQp>(4)),
+      Catch::Matchers::Contains("solver"));
+}
+
+TEST_CASE("innovation test, eqs. (31)-(32): LOS below gamma Tr(S), NLOS above", "[mitigation][test]") {
+  QpBiasEkfOptions o;
+  o.noise.sigma0 = 1.0;  // R = I
+  QpBiasEkf f(motion(), small_anchors(), belief_at(3, 4), o);
+  // F P F^T has unit diagonal (unit range gradients, P_pos = I): Tr(S) = 3 + 3 = 6, threshold 6.6.
+  VecX z = exact_ranges().array() + 1.0;  // alpha^T alpha = 3 <= 6.6: LOS
+  MitigationStep s = f.update(z);
+  CHECK_THAT(s.threshold, WithinRel(6.6, 1e-12));
+  CHECK_THAT(s.innovation_sq, WithinRel(3.0, 1e-12));
+  CHECK_FALSE(s.nlos);
+  CHECK_FALSE(s.bias_estimated);
+  CHECK(f.bias().isZero());
+
+  QpBiasEkf f2(motion(), small_anchors(), belief_at(3, 4), o);
+  z = exact_ranges();
+  z[2] += 3.0;  // alpha^T alpha = 9 > 6.6: NLOS, QP runs, bias subtracted (eq. 25)
+  s = f2.update(z);
+  CHECK(s.nlos);
+  CHECK(s.bias_estimated);
+  CHECK(f2.nlos_detected());
+  CHECK(f2.bias().sum() > 0.0);
+  // gamma validated, naming the option.
+  o.gamma = 0.5;
+  CHECK_THROWS_WITH(QpBiasEkf(motion(), small_anchors(), belief_at(0, 0), o),
+                    Catch::Matchers::Contains("gamma"));
+}
+
+TEST_CASE("bad input leaves the tracker unchanged, missing rows are skipped", "[mitigation][input]") {
+  QpBiasEkf f(motion(), small_anchors(), belief_at(3, 4));
+  const Vec<4> x0 = f.mean();
+  CHECK_THROWS_WITH(f.step(VecX::Ones(2)), Catch::Matchers::Contains("y"));
+  CHECK(f.mean() == x0);
+  CHECK(f.time() == 0.0);
+  VecX z = exact_ranges();
+  z[1] = std::nan("");
+  QpBiasEkfOptions o;
+  o.always_estimate = true;
+  QpBiasEkf g(motion(), small_anchors(), belief_at(3, 4), o);
+  const MitigationStep s = g.step(z);
+  CHECK(s.filter.rows_used == 2);
+  CHECK((s.flags & kFlagMissingRows) != 0);
+  CHECK(g.mean().allFinite());
+}
+
+TEST_CASE("box QP adapter: clipped diagonal problem and argument checks", "[mitigation][qp]") {
+  auto qp = make_box_qp(3);
+  // min 1/2 x^T diag(2, 0, 1) x + g^T x, g = (-4, 1, 3), 0 <= x <= (1, 5, 5): x = (1, 0, 0).
+  const MatX H = Vec<3>(2, 0, 1).asDiagonal();
+  const VecX g = Vec<3>(-4, 1, 3);
+  const QpResult r = qp->solve(H, g, VecX::Zero(3), Vec<3>(1, 5, 5));
+  REQUIRE(r.ok());
+  CHECK((qp->x() - Vec<3>(1, 0, 0)).norm() < 1e-7);
+  CHECK_THAT(r.objective, WithinAbs(1.0 - 4.0, 1e-7));
+  CHECK_THROWS_WITH(qp->solve(H, g, VecX::Ones(3), VecX::Zero(3)), Catch::Matchers::Contains("lower"));
+  CHECK_THROWS_WITH(qp->solve(H, VecX::Zero(2), VecX::Zero(3), VecX::Ones(3)),
+                    Catch::Matchers::Contains("g"));
+  CHECK(std::string(to_string(QpStatus::kMaxIterations)) == "max_iterations");
+}
+
+TEST_CASE("bias-augmented EKF: biases estimated, non-negative, state finite", "[mitigation][augmented]") {
+  BiasAugmentedEkfOptions o;
+  o.noise.sigma0 = 0.1;
+  o.bias_prior_std = 5.0;
+  o.bias_walk_std = 0.01;
+  ConstantVelocity2 mo(0.1, 1e-4, VelocityNoise::kWhiteAcceleration);
+  Gaussian<4> g = belief_at(3, 4);
+  g.cov = Vec<4>(0.01, 0.01, 1e-4, 1e-4).asDiagonal();  // tight position prior: the bias is identifiable
+  BiasAugmentedEkf f(mo, small_anchors(), g, o);
+  CHECK(f.state_dim() == 7);
+  VecX z = exact_ranges();
+  z[0] += 2.0;
+  for (int k = 0; k < 50; ++k) f.step(z);
+  CHECK(f.mean().allFinite());
+  CHECK((f.bias().array() >= 0.0).all());
+  CHECK_THAT(f.bias()[0], WithinAbs(2.0, 0.3));
+  CHECK(f.bias().tail(2).cwiseAbs().maxCoeff() < 0.3);
+  CHECK_THROWS_WITH(BiasAugmentedEkf(mo, small_anchors(), g,
+                                     [] {
+                                       BiasAugmentedEkfOptions b;
+                                       b.iterations = 0;
+                                       return b;
+                                     }()),
+                    Catch::Matchers::Contains("iterations"));
+}

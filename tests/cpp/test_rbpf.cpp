@@ -1,0 +1,458 @@
+// RBPF engine: merge rule (eqs. 29-30) on hand-built sets, offspring counts and the bounded enumeration,
+// RBPF weights (eq. 25) against a brute-force enumeration of situation histories, reordered RBPF, the
+// thread pool, systematic resampling (unbiased) and the joint PF.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <map>
+#include <set>
+
+#include "nlosloc/filters/ukf.hpp"
+#include "nlosloc/rbpf/pf.hpp"
+#include "nlosloc/rbpf/rbpf.hpp"
+
+using namespace nlosloc;
+using namespace nlosloc::rbpf;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
+namespace nn = nlosloc::noise;
+namespace si = nlosloc::situation;
+
+template class nlosloc::rbpf::Rbpf<ConstantVelocity2>;
+template class nlosloc::rbpf::Rbpf<ConstantVelocityClock2>;
+template class nlosloc::rbpf::ParticleFilter<ConstantVelocityClock2>;
+template class nlosloc::rbpf::UkfKernel<ConstantVelocity2>;
+
+namespace {
+constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+}
+
+TEST_CASE("merge rule on hand-built particle sets (eqs. 29-30)", "[rbpf][merge]") {
+  // particles: key, 1-D mean, weight
+  std::vector<std::uint64_t> key{0, 0, 0, 1, 0};
+  std::vector<double> x{0.0, 0.05, 0.5, 0.01, 0.09};
+  std::vector<double> w{0.1, 0.3, 0.2, 0.25, 0.15};
+  std::vector<double> lw(w.size());
+  for (std::size_t i = 0; i < w.size(); ++i) lw[i] = std::log(w[i]);
+  MergeWorkspace ws;
+  const int n = merge_greedy(
+      key.data(), lw.data(), 5,
+      [&](int a, int b) {
+        return std::abs(x[static_cast<std::size_t>(a)] - x[static_cast<std::size_t>(b)]) < 0.1;
+      },
+      ws);
+  // heaviest of key 0 is particle 1 (0.3): absorbs 0 (d = 0.05) and 4 (d = 0.04); not 2 (d = 0.45);
+  // particle 3 has another situation (eq. 29: infinite distance) although it is close.
+  CHECK(n == 2);
+  CHECK_THAT(std::exp(lw[1]), WithinAbs(0.55, 1e-14));
+  CHECK(lw[0] == kNegInf);
+  CHECK(lw[4] == kNegInf);
+  CHECK_THAT(std::exp(lw[2]), WithinAbs(0.2, 1e-14));
+  CHECK_THAT(std::exp(lw[3]), WithinAbs(0.25, 1e-14));
+  std::vector<int> top;
+  select_top(lw.data(), 5, 2, top);
+  CHECK(top == std::vector<int>{1, 3});
+  // a chain a-b-c: b is absorbed by the heavier a, so c (far from a) survives
+  std::vector<std::uint64_t> k2{7, 7, 7};
+  std::vector<double> x2{0.0, 0.08, 0.16}, lw2{std::log(0.5), std::log(0.3), std::log(0.2)};
+  merge_greedy(
+      k2.data(), lw2.data(), 3,
+      [&](int a, int b) {
+        return std::abs(x2[static_cast<std::size_t>(a)] - x2[static_cast<std::size_t>(b)]) < 0.1;
+      },
+      ws);
+  CHECK_THAT(std::exp(lw2[0]), WithinAbs(0.8, 1e-14));
+  CHECK(lw2[1] == kNegInf);
+  CHECK_THAT(std::exp(lw2[2]), WithinAbs(0.2, 1e-14));
+  CHECK_THAT(default_merge_threshold(12.8, 128), WithinRel(0.01, 1e-14));  // eq. (31)
+}
+
+TEST_CASE("offspring counts and the bounded enumeration", "[rbpf][offspring]") {
+  CHECK(situation_count(2, 6) == 64);
+  CHECK(situation_count(3, 4) == 81);
+  CHECK(situation_count(2, 70) == 0);
+  Rng rng(2);
+  for (int nz : {2, 3}) {
+    const int B = nz == 2 ? 6 : 4;
+    MatX A(B, nz);
+    for (int b = 0; b < B; ++b)
+      for (int z = 0; z < nz; ++z) A(b, z) = std::log(rng.uniform());
+    std::vector<std::pair<double, std::uint64_t>> all;
+    enumerate_all(A, [&](std::uint64_t k, double s) { all.emplace_back(s, k); });
+    const auto total = situation_count(nz, B);
+    CHECK(all.size() == total);
+    std::set<std::uint64_t> keys;
+    for (auto& [s, k] : all) {
+      keys.insert(k);
+      VecXi sv(B);
+      decode_situation(k, nz, sv);
+      double ref = 0.0;
+      for (int b = 0; b < B; ++b) ref += A(b, sv(b));
+      CHECK_THAT(s, WithinAbs(ref, 1e-12));
+      CHECK(encode_situation(sv, nz) == k);
+    }
+    CHECK(keys.size() == total);
+    // bounded: the K best are exactly the K largest of the full enumeration ...
+    std::sort(all.begin(), all.end(), [](auto& a, auto& b) { return a.first > b.first; });
+    for (std::uint64_t K : {std::uint64_t{1}, std::uint64_t{5}, std::uint64_t{17}}) {
+      std::vector<std::pair<double, std::uint64_t>> best;
+      enumerate_best(A, K, [&](std::uint64_t k, double s) { best.emplace_back(s, k); });
+      REQUIRE(best.size() == K);
+      for (std::size_t i = 0; i < K; ++i) CHECK_THAT(best[i].first, WithinAbs(all[i].first, 1e-12));
+    }
+    // ... and with K >= N_z^B it equals the full one (same set of keys and sums)
+    std::set<std::uint64_t> kb;
+    enumerate_offspring(A, total + 3, [&](std::uint64_t k, double) { kb.insert(k); });
+    std::set<std::uint64_t> kbest;
+    enumerate_best(A, total, [&](std::uint64_t k, double) { kbest.insert(k); });
+    CHECK(kb == keys);
+    CHECK(kbest == keys);
+  }
+}
+
+namespace {
+/// Tiny case: B = 2 anchors, N_z = 2, 1-D-ish CV model in 2-D with two TOA rows.
+struct Tiny {
+  ConstantVelocity2 motion{0.5, 1.0};
+  MeasurementStack st;
+  si::SightProcess proc;
+  si::QualityModel q{{nn::Normal(0.8, 0.2), nn::Normal(0.3, 0.2)}};
+  Gaussian<4> g;
+  MatX T;
+  std::vector<VecX> ys, os;
+  Tiny() : st(ConstantVelocity2::layout(), anchors(), 2) {
+    st.add_toa(0, {nn::Normal(0, 2), nn::Normal(20, 10)});
+    st.add_toa(1, {nn::Normal(0, 2), nn::Normal(20, 10)});
+    T.resize(2, 2);
+    T << 0.8, 0.2, 0.3, 0.7;
+    VecX pi(2);
+    pi << 0.6, 0.4;
+    proc = si::SightProcess(si::SightModel::fixed(T, 1, pi), 2);
+    g.mean << 10, 20, 1, 0;
+    g.cov = Vec<4>(25, 25, 1, 1).asDiagonal();
+    const double yv[3][2] = {{91.0, 62.0}, {110.0, 60.0}, {93.5, 83.0}};
+    const double ov[3][2] = {{0.75, 0.4}, {0.35, 0.7}, {0.8, 0.2}};
+    for (int k = 0; k < 3; ++k) {
+      ys.emplace_back(Eigen::Vector2d(yv[k][0], yv[k][1]));
+      os.emplace_back(Eigen::Vector2d(ov[k][0], ov[k][1]));
+    }
+  }
+  static MatX anchors() {
+    MatX a(2, 2);
+    a << 100, 0, 0, 80;
+    return a;
+  }
+  /// log prior of the history (first step: pi T) times quality, and the UKF chain along it.
+  double history_logw(const std::vector<VecXi>& h, Vec<4>* mean) const {
+    Ukf<ConstantVelocity2> f(motion, st, g);
+    double lw = 0.0;
+    const VecX pi = proc.model(0).initial();
+    for (std::size_t k = 0; k < h.size(); ++k) {
+      for (int b = 0; b < 2; ++b) {
+        const double pr = k == 0 ? (pi.transpose() * T)(h[k](b)) : T(h[k - 1](b), h[k](b));
+        lw += std::log(pr) + q.log_likelihood(os[k](b), h[k](b));
+      }
+      lw += f.step(ys[k], h[k]).log_likelihood;
+    }
+    if (mean) *mean = f.mean();
+    return lw;
+  }
+};
+VecXi sv(int k) {
+  VecXi s(2);
+  s << k % 2, k / 2;
+  return s;
+}
+}  // namespace
+
+TEST_CASE("classical RBPF weights equal a brute-force enumeration (B=2, N_z=2, three steps)", "[rbpf]") {
+  const Tiny tc;
+  SECTION("no pruning (M = 64): exact posterior over the 64 histories") {
+    RbpfOptions opt;
+    opt.variant = RbpfVariant::kClassical;
+    opt.num_particles = 64;
+    opt.merge = false;
+    Rbpf<ConstantVelocity2> f(tc.motion, tc.st, tc.proc, tc.q, tc.g, opt);
+    for (int k = 0; k < 3; ++k)
+      f.step(tc.ys[static_cast<std::size_t>(k)], tc.os[static_cast<std::size_t>(k)]);
+    REQUIRE(f.num_particles() == 64);
+    std::vector<double> lw;
+    std::vector<Vec<4>> means;
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        for (int c = 0; c < 4; ++c) {
+          Vec<4> m;
+          lw.push_back(tc.history_logw({sv(a), sv(b), sv(c)}, &m));
+          means.push_back(m);
+        }
+    const double z = log_sum_exp(Eigen::Map<VecX>(lw.data(), 64));
+    Vec<4> est = Vec<4>::Zero();
+    for (int i = 0; i < 64; ++i)
+      est += std::exp(lw[static_cast<std::size_t>(i)] - z) * means[static_cast<std::size_t>(i)];
+    // match every particle to its history by mean and weight
+    std::vector<double> got, want;
+    for (int i = 0; i < 64; ++i) got.push_back(f.log_weight(i));
+    for (double v : lw) want.push_back(v - z);
+    std::sort(got.begin(), got.end());
+    std::sort(want.begin(), want.end());
+    // 1e-6: the scaled UT (alpha = 1e-3) has centre weights of order -1e6, so summation order shows at 1e-7
+    for (int i = 0; i < 64; ++i)
+      CHECK_THAT(got[static_cast<std::size_t>(i)], WithinAbs(want[static_cast<std::size_t>(i)], 1e-6));
+    CHECK((f.estimate() - est).cwiseAbs().maxCoeff() < 1e-6);  // eq. (28)
+  }
+  SECTION("M = 2: the kept histories and weights of a brute-force prune") {
+    RbpfOptions opt;
+    opt.variant = RbpfVariant::kClassical;
+    opt.num_particles = 2;
+    opt.merge = false;
+    Rbpf<ConstantVelocity2> f(tc.motion, tc.st, tc.proc, tc.q, tc.g, opt);
+    std::vector<std::vector<VecXi>> kept{{}};
+    for (int k = 0; k < 3; ++k) {
+      f.step(tc.ys[static_cast<std::size_t>(k)], tc.os[static_cast<std::size_t>(k)]);
+      std::vector<std::pair<double, std::vector<VecXi>>> cand;
+      for (auto& h : kept)
+        for (int c = 0; c < 4; ++c) {
+          auto h2 = h;
+          h2.push_back(sv(c));
+          cand.emplace_back(tc.history_logw(h2, nullptr), h2);
+        }
+      std::sort(cand.begin(), cand.end(), [](auto& a, auto& b) { return a.first > b.first; });
+      kept = {cand[0].second, cand[1].second};
+      const double z = log_add(cand[0].first, cand[1].first);
+      REQUIRE(f.num_particles() == 2);
+      for (int i = 0; i < 2; ++i) {
+        CHECK_THAT(f.log_weight(i), WithinAbs(cand[static_cast<std::size_t>(i)].first - z, 1e-6));
+        CHECK(f.particle_situation(i) == cand[static_cast<std::size_t>(i)].second.back());
+      }
+    }
+  }
+}
+
+TEST_CASE("reordered RBPF: weights of eqs. 32-33 and merge of identical parents", "[rbpf]") {
+  const Tiny tc;
+  RbpfOptions opt;
+  opt.variant = RbpfVariant::kReordered;
+  opt.num_particles = 3;
+  opt.merge = false;
+  Rbpf<ConstantVelocity2> f(tc.motion, tc.st, tc.proc, tc.q, tc.g, opt);
+  f.step(tc.ys[0], tc.os[0]);
+  // step 1: one parent, children ranked by prior x quality (eq. 32), top 3 run a UKF, weights eq. (33)
+  std::vector<std::pair<double, int>> pre;
+  for (int c = 0; c < 4; ++c) {
+    double lw = 0.0;
+    const VecX pi = tc.proc.model(0).initial();
+    for (int b = 0; b < 2; ++b)
+      lw += std::log((pi.transpose() * tc.T)(sv(c)(b))) + tc.q.log_likelihood(tc.os[0](b), sv(c)(b));
+    pre.emplace_back(lw, c);
+  }
+  std::sort(pre.begin(), pre.end(), std::greater<>());
+  std::vector<double> full;
+  for (int i = 0; i < 3; ++i)
+    full.push_back(tc.history_logw({sv(pre[static_cast<std::size_t>(i)].second)}, nullptr));
+  const double z = log_sum_exp(Eigen::Map<VecX>(full.data(), 3));
+  REQUIRE(f.num_particles() == 3);
+  std::map<std::uint64_t, double> got;
+  for (int i = 0; i < 3; ++i) got[encode_situation(f.particle_situation(i), 2)] = f.log_weight(i);
+  for (int i = 0; i < 3; ++i)
+    CHECK_THAT(got.at(encode_situation(sv(pre[static_cast<std::size_t>(i)].second), 2)),
+               WithinAbs(full[static_cast<std::size_t>(i)] - z, 1e-9));
+  // merge: with a huge d_min all children of equal situation collapse, so at most N_z^B = 4 particles survive
+  RbpfOptions mo = opt;
+  mo.merge = true;
+  mo.merge_threshold = 1e9;
+  mo.num_particles = 16;
+  Rbpf<ConstantVelocity2> g(tc.motion, tc.st, tc.proc, tc.q, tc.g, mo);
+  for (int k = 0; k < 3; ++k) {
+    const RbpfStepInfo info = g.step(tc.ys[static_cast<std::size_t>(k)], tc.os[static_cast<std::size_t>(k)]);
+    CHECK(g.num_particles() <= 4);
+    if (k > 0) CHECK(info.merged > 0);
+  }
+  CHECK_THAT(g.weights().sum(), WithinAbs(1.0, 1e-12));
+  CHECK_THAT(g.situation_probabilities().row(0).sum(), WithinAbs(1.0, 1e-12));
+}
+
+namespace {
+struct H2Like {
+  ConstantVelocityClock2 motion{0.01, 1.0, 1e-2};
+  MeasurementStack st;
+  si::SightProcess proc{si::SightModel::speed_dependent(10, 10, 0.01), 6};
+  si::QualityModel q{{nn::Beta(4, 1.5), nn::Beta(1.5, 4)}};
+  Gaussian<6> g;
+  H2Like() : st(ConstantVelocityClock2::layout(), anchors(), 2) {
+    for (int b = 0; b < 6; ++b)
+      st.add_rtoa(b, {nn::Normal(0, std::sqrt(10.0)), nn::Rayleigh::from_variance(5000)});
+    g.mean << 0, 0, 0, 0, 0, 0;
+    g.cov = Vec<6>(25, 25, 10, 1, 1, 10).asDiagonal();
+  }
+  static MatX anchors() {
+    MatX a(6, 2);
+    for (int b = 0; b < 6; ++b) {
+      a(b, 0) = 3000 * std::cos(b * kPi / 3);
+      a(b, 1) = 3000 * std::sin(b * kPi / 3);
+    }
+    return a;
+  }
+  /// Simulated track: truth, y, o.
+  void simulate(int steps, std::uint64_t seed, std::vector<VecX>& y, std::vector<VecX>& o,
+                std::vector<Vec<6>>& truth) const {
+    Rng rng(seed);
+    Vec<6> x = Vec<6>::Zero();
+    x(3) = 1.0;
+    VecXi s = proc.sample_initial(rng);
+    for (int k = 1; k <= steps; ++k) {
+      x = motion.F() * x;
+      x(3) += std::sqrt(0.01) * rng.normal();
+      x(4) += std::sqrt(0.01) * rng.normal();
+      VecX w(6);
+      si::transversal_speeds(x.head<2>(), x.segment<2>(3), st.anchors(), w);
+      s = proc.sample_next(s, k, w, rng);
+      VecX yk(6);
+      st.predict(x, 0.0, yk);
+      for (int b = 0; b < 6; ++b) yk(b) += st.noise(b, s(b)).sample(rng);
+      y.push_back(yk);
+      o.push_back(q.sample(s, rng));
+      truth.push_back(x);
+    }
+  }
+};
+}  // namespace
+
+TEST_CASE("RBPF on an H2-like track: 1 and 2 threads agree, estimate tracks", "[rbpf]") {
+  const H2Like h;
+  std::vector<VecX> y, o;
+  std::vector<Vec<6>> truth;
+  h.simulate(200, 7, y, o, truth);
+  for (auto variant : {RbpfVariant::kReordered, RbpfVariant::kClassical}) {
+    RbpfOptions opt;
+    opt.variant = variant;
+    opt.num_particles = variant == RbpfVariant::kReordered ? 32 : 2;
+    Rbpf<ConstantVelocityClock2> f1(h.motion, h.st, h.proc, h.q, h.g, opt);
+    opt.threads = 2;
+    Rbpf<ConstantVelocityClock2> f2(h.motion, h.st, h.proc, h.q, h.g, opt);
+    for (std::size_t k = 0; k < y.size(); ++k) {
+      const auto i1 = f1.step(y[k], o[k]);
+      f2.step(y[k], o[k]);
+      CHECK(i1.failures == 0);
+    }
+    CHECK((f1.estimate() - f2.estimate()).cwiseAbs().maxCoeff() < 1e-9);
+    CHECK((f1.estimate().head<2>() - truth.back().head<2>()).norm() < 15.0);
+    CHECK(is_spd(f1.covariance()));
+  }
+  CHECK_THROWS_AS(
+      Rbpf<ConstantVelocityClock2>(h.motion, h.st, h.proc, h.q, h.g, RbpfOptions{RbpfVariant::kReordered, 0}),
+      std::invalid_argument);
+}
+
+TEST_CASE("thread pool runs every index once and forwards exceptions", "[rbpf]") {
+  ThreadPool pool(2);
+  std::vector<int> hit(1000, 0);
+  for (int rep = 0; rep < 50; ++rep)
+    pool.parallel_for(1000, [&](int b, int e, int) {
+      for (int i = b; i < e; ++i) ++hit[static_cast<std::size_t>(i)];
+    });
+  CHECK(std::all_of(hit.begin(), hit.end(), [](int v) { return v == 50; }));
+  CHECK_THROWS_AS(pool.parallel_for(10,
+                                    [](int b, int, int) {
+                                      if (b > 0) throw std::runtime_error("boom");
+                                    }),
+                  std::runtime_error);
+}
+
+TEST_CASE("systematic resampling is unbiased", "[rbpf][pf]") {
+  VecX w(5);
+  w << 0.05, 0.4, 0.1, 0.3, 0.15;
+  const int M = 7;
+  std::vector<double> counts(5, 0.0);
+  std::vector<int> out(M);
+  Rng rng(9);
+  const int reps = 200000;
+  for (int r = 0; r < reps; ++r) {
+    systematic_resample(w, 5, M, rng.uniform(), out.data());
+    for (int j : out) counts[static_cast<std::size_t>(j)] += 1.0;
+  }
+  for (int i = 0; i < 5; ++i)
+    CHECK_THAT(counts[static_cast<std::size_t>(i)] / reps, WithinAbs(M * w(i), 0.01));
+  // each particle is copied floor(M w) or ceil(M w) times
+  systematic_resample(w, 5, M, 0.5, out.data());
+  for (int i = 0; i < 5; ++i) {
+    const auto c = std::count(out.begin(), out.end(), i);
+    CHECK(c >= static_cast<long>(std::floor(M * w(i))));
+    CHECK(c <= static_cast<long>(std::ceil(M * w(i))));
+  }
+}
+
+TEST_CASE("joint PF tracks the H2-like track, merge-select keeps M particles", "[rbpf][pf]") {
+  const H2Like h;
+  std::vector<VecX> y, o;
+  std::vector<Vec<6>> truth;
+  h.simulate(100, 3, y, o, truth);
+  for (auto rs : {PfResampling::kSystematic, PfResampling::kMergeSelect}) {
+    PfOptions opt;
+    opt.num_particles = 20000;
+    opt.resampling = rs;
+    opt.threads = 2;
+    opt.seed = 4;
+    ParticleFilter<ConstantVelocityClock2> pf(h.motion, h.st, h.proc, h.q, h.g, opt);
+    for (std::size_t k = 0; k < y.size(); ++k) {
+      const PfStepInfo info = pf.step(y[k], o[k]);
+      CHECK(std::isfinite(info.log_likelihood));
+    }
+    CHECK((pf.estimate().head<2>() - truth.back().head<2>()).norm() < 15.0);
+    CHECK_THAT(pf.situation_probabilities().row(0).sum(), WithinAbs(1.0, 1e-9));
+    CHECK(pf.particles().cols() == 20000);
+  }
+}
+
+TEST_CASE("Rbpf and ParticleFilter are movable (estimators own them by value)", "[rbpf]") {
+  const H2Like h;
+  std::vector<VecX> y, o;
+  std::vector<Vec<6>> truth;
+  h.simulate(20, 5, y, o, truth);
+  RbpfOptions opt;
+  opt.threads = 2;
+  Rbpf<ConstantVelocityClock2> a(h.motion, h.st, h.proc, h.q, h.g, opt);
+  Rbpf<ConstantVelocityClock2> ref(h.motion, h.st, h.proc, h.q, h.g, opt);
+  for (int k = 0; k < 10; ++k) {
+    a.step(y[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]);
+    ref.step(y[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]);
+  }
+  Rbpf<ConstantVelocityClock2> b(std::move(a));
+  for (int k = 10; k < 20; ++k) {
+    b.step(y[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]);
+    ref.step(y[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]);
+  }
+  CHECK((b.estimate() - ref.estimate()).cwiseAbs().maxCoeff() < 1e-12);
+  PfOptions po;
+  po.num_particles = 1000;
+  ParticleFilter<ConstantVelocityClock2> p(h.motion, h.st, h.proc, h.q, h.g, po);
+  ParticleFilter<ConstantVelocityClock2> p2(std::move(p));
+  CHECK(std::isfinite(p2.step(y[0], o[0]).log_likelihood));
+}
+
+TEST_CASE("joint PF: closed-form Normal/Rayleigh likelihood equals the generic one", "[rbpf][pf]") {
+  // same seed, one stack with Normal/Rayleigh (fast path) and one with an equal AsymmetricNormal LOS row
+  // (generic path): the weights after one step must agree.
+  const H2Like h;
+  MeasurementStack generic(ConstantVelocityClock2::layout(), H2Like::anchors(), 2);
+  for (int b = 0; b < 6; ++b)
+    generic.add_rtoa(
+        b, {nn::AsymmetricNormal(0.0, std::sqrt(10.0), std::sqrt(10.0)), nn::Rayleigh::from_variance(5000)});
+  std::vector<VecX> y, o;
+  std::vector<Vec<6>> truth;
+  h.simulate(3, 8, y, o, truth);
+  PfOptions po;
+  po.num_particles = 500;
+  po.ess_threshold = 0.0;
+  ParticleFilter<ConstantVelocityClock2> fa(h.motion, h.st, h.proc, h.q, h.g, po);
+  ParticleFilter<ConstantVelocityClock2> fb(h.motion, generic, h.proc, h.q, h.g, po);
+  for (int k = 0; k < 3; ++k) {
+    const double la = fa.step(y[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]).log_likelihood;
+    const double lb = fb.step(y[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]).log_likelihood;
+    CHECK_THAT(la, WithinAbs(lb, 1e-8));
+  }
+  int mismatches = 0;
+  for (int i = 0; i < 500; ++i) {
+    const double a = fa.log_weights()(i), b = fb.log_weights()(i);
+    if (!((a == kNegInf && b == kNegInf) || std::abs(a - b) < 1e-8)) ++mismatches;  // -inf: Rayleigh support
+  }
+  CHECK(mismatches == 0);
+}

@@ -1,0 +1,186 @@
+// Sight models (Huerta eqs. 9-18, Grisales eq. 16), quality likelihoods, the forward filter (eqs. 35-38)
+// against a hand calculation, and the IUKF (Table VI) reducing to the UKF when the probabilities are certain.
+#include <catch2/catch.hpp>
+
+#include "nlosloc/filters/iukf.hpp"
+#include "nlosloc/situation/forward.hpp"
+#include "nlosloc/situation/markov.hpp"
+#include "nlosloc/situation/quality.hpp"
+
+using namespace nlosloc;
+using namespace nlosloc::situation;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
+namespace nn = nlosloc::noise;
+
+template class nlosloc::Iukf<ConstantVelocity2>;
+template class nlosloc::Iukf<ConstantVelocityClock2>;
+
+TEST_CASE("transversal speed eq. 10", "[situation]") {
+  const Eigen::Vector2d q(0, 0), p(100, 0);
+  CHECK_THAT(transversal_speed(p, Eigen::Vector2d(3, 4), q), WithinAbs(4.0, 1e-12));
+  CHECK_THAT(transversal_speed(p, Eigen::Vector2d(5, 0), q), WithinAbs(0.0, 1e-12));  // radial: no change
+  CHECK_THAT(transversal_speed(q, Eigen::Vector2d(3, 4), q), WithinAbs(5.0, 1e-12));
+}
+
+TEST_CASE("speed-dependent transitions: hand values of eqs. 15, 17, 18", "[situation]") {
+  // w = 10 m/s, dt = 0.01 s -> a = 0.1 m; E{L_LOS} = 30 m, E{L_NLOS} = 5 m (scenario H1).
+  const Mat<2, 2> T15 = speed_transition_single(10.0, 0.01, 30.0, 5.0);
+  CHECK_THAT(T15(0, 0), WithinRel(30.0 / 30.1, 1e-14));
+  CHECK_THAT(T15(0, 1), WithinRel(0.1 / 30.1, 1e-14));
+  CHECK_THAT(T15(1, 0), WithinRel(0.1 / 5.1, 1e-14));
+  CHECK_THAT(T15(1, 1), WithinRel(5.0 / 5.1, 1e-14));
+  const double rho = 1.0 / (1.0 - (0.1 / 30.1) * (0.1 / 5.1));
+  const Mat<2, 2> T17 = speed_transition_multiple(10.0, 0.01, 30.0, 5.0);
+  CHECK_THAT(T17(0, 0), WithinRel(30.0 / 30.1 * rho, 1e-14));
+  CHECK_THAT(T17(0, 1), WithinRel(0.1 / 30.1 * 5.0 / 5.1 * rho, 1e-14));
+  CHECK_THAT(T17(1, 0), WithinRel(0.1 / 5.1 * 30.0 / 30.1 * rho, 1e-14));
+  CHECK_THAT(T17(1, 1), WithinRel(5.0 / 5.1 * rho, 1e-14));
+  CHECK_THAT(T17.row(0).sum(), WithinAbs(1.0, 1e-15));
+  CHECK_THAT(T17.row(1).sum(), WithinAbs(1.0, 1e-15));
+  const Mat<2, 2> T18 = speed_transition_memoryless(30.0, 5.0);
+  CHECK_THAT(T18(0, 1), WithinRel(5.0 / 35.0, 1e-15));  // p_N = 0.143 (paper: 0.14)
+  CHECK_THAT(T18(1, 0), WithinRel(30.0 / 35.0, 1e-15));
+  // eq. (17) tends to eq. (18) for w dt >> E{L} and to eq. (15) for w dt << E{L}
+  CHECK_THAT(speed_transition_multiple(1e9, 1.0, 30, 5)(0, 1), WithinAbs(5.0 / 35.0, 1e-6));
+  CHECK_THAT(speed_transition_multiple(1e-3, 0.01, 30, 5)(0, 1),
+             WithinRel(speed_transition_single(1e-3, 0.01, 30, 5)(0, 1), 1e-5));
+  // zero speed: the situation cannot change
+  CHECK(speed_transition_multiple(0.0, 0.01, 30, 5).isIdentity(0.0));
+  CHECK_THROWS_AS(speed_transition_single(-1.0, 0.01, 30, 5), std::invalid_argument);
+}
+
+TEST_CASE("fixed chain with K_sight schedule (Grisales eq. 16)", "[situation]") {
+  MatX Q(3, 3);
+  Q << 0.970, 0.010, 0.020, 0.010, 0.970, 0.020, 0.025, 0.025, 0.950;  // Grisales eq. (38)
+  const SightModel m = SightModel::fixed(Q, 150);
+  CHECK(m.num_conditions() == 3);
+  CHECK(m.transition(149).isIdentity(0.0));
+  CHECK(m.transition(300).isApprox(Q));
+  CHECK_THAT(m.initial().sum(), WithinAbs(1.0, 1e-12));
+  CHECK((m.initial().transpose() * Q).isApprox(m.initial().transpose(), 1e-12));  // stationary prior
+  Rng rng(3);
+  int s = 1;
+  for (long k = 1; k < 150; ++k) s = m.sample_next(s, k, 0.0, rng);
+  CHECK(s == 1);  // no change before K_sight
+  MatX bad = Q;
+  bad(0, 0) = 0.5;
+  CHECK_THROWS_AS(SightModel::fixed(bad), std::invalid_argument);
+  CHECK_THROWS_AS(SightModel::fixed(Q, 0), std::invalid_argument);
+}
+
+TEST_CASE("sampled chain visits NLOS with the eq. 18 frequency", "[situation]") {
+  const SightModel m = SightModel::speed_dependent(30.0, 5.0, 0.01);
+  CHECK_THAT(m.initial()(1), WithinRel(5.0 / 35.0, 1e-12));
+  Rng rng(11);
+  int s = m.sample_initial(rng);
+  long nlos = 0;
+  const long n = 400000;
+  for (long k = 1; k <= n; ++k) {
+    s = m.sample_next(s, k, 10.0, rng);
+    nlos += s;
+  }
+  CHECK_THAT(static_cast<double>(nlos) / n, WithinAbs(5.0 / 35.0, 0.03));
+  const SightProcess proc(m, 3);
+  const VecXi s0 = proc.sample_initial(rng);
+  const VecXi s1 = proc.sample_next(s0, 1, VecX::Constant(3, 10.0), rng);
+  CHECK(s1.size() == 3);
+  CHECK_THROWS_AS(proc.sample_next(s0, 1, VecX(), rng), std::invalid_argument);
+}
+
+TEST_CASE("quality likelihoods from any distribution, empirical included", "[situation]") {
+  const QualityModel q({nn::Beta(4, 1.5), nn::Beta(1.5, 4)});
+  CHECK_THAT(q.log_likelihood(0.8, 0), WithinAbs(nn::Beta(4, 1.5).log_pdf(0.8), 1e-14));
+  CHECK(q.log_likelihood(std::nan(""), 1) == 0.0);
+  Rng rng(5);
+  VecX samples(500);
+  for (int i = 0; i < 500; ++i) samples(i) = nn::Beta(4, 1.5).sample(rng);
+  const QualityModel qe({nn::Empirical(samples), nn::Beta(1.5, 4)});
+  CHECK(qe.log_likelihood(0.8, 0) > qe.log_likelihood(0.8, 1));
+  CHECK_THROWS_AS(QualityModel({}), std::invalid_argument);
+}
+
+TEST_CASE("forward filter against a hand calculation (eqs. 36-38)", "[situation]") {
+  MatX T(2, 2);
+  T << 0.9, 0.1, 0.2, 0.8;
+  VecX pi0(2);
+  pi0 << 0.5, 0.5;
+  const SightProcess proc(SightModel::fixed(T, 1, pi0), 1);
+  const QualityModel q({nn::Normal(1.0, 0.5), nn::Normal(0.0, 0.5)});
+  ForwardFilter f(proc, q);
+  VecX o(1);
+  o << 0.8;
+  f.step(o);
+  // by hand: predicted = [0.55, 0.45]; likelihoods N(0.8; 1, .5), N(0.8; 0, .5)
+  const double l0 = std::exp(-0.5 * 0.04 / 0.25), l1 = std::exp(-0.5 * 0.64 / 0.25);
+  const double g0 = 0.55 * l0 / (0.55 * l0 + 0.45 * l1);
+  CHECK_THAT(f.predicted()(0, 0), WithinAbs(0.55, 1e-14));
+  CHECK_THAT(f.probabilities()(0, 0), WithinAbs(g0, 1e-14));
+  CHECK_THAT(f.probabilities().row(0).sum(), WithinAbs(1.0, 1e-14));  // eq. (38)
+  o << std::nan("");
+  f.step(o);  // missing statistic: prediction only
+  CHECK_THAT(f.probabilities()(0, 0), WithinAbs(g0 * 0.9 + (1 - g0) * 0.2, 1e-14));
+  CHECK(f.argmax()(0) == 0);
+  CHECK_THROWS_AS(f.update(VecX::Zero(2)), std::invalid_argument);
+}
+
+namespace {
+MeasurementStack toa_stack() {
+  MatX anchors(3, 2);
+  anchors << 0, 0, 1000, 0, 0, 1000;
+  MeasurementStack st(ConstantVelocity2::layout(), anchors, 2);
+  for (int b = 0; b < 3; ++b) st.add_toa(b, {nn::Normal(0, 3), nn::Rayleigh::from_variance(2000)});
+  st.add_aoa(0, {nn::Normal(0, 0.01), nn::Normal(0, 0.05)});
+  return st;
+}
+}  // namespace
+
+TEST_CASE("IUKF reduces to the UKF when the forward filter is certain", "[situation][iukf]") {
+  const ConstantVelocity2 motion(0.1, 1.0);
+  const MeasurementStack st = toa_stack();
+  Gaussian<4> g;
+  g.mean << 300, 400, 1, 2;
+  g.cov = Vec<4>(100, 100, 4, 4).asDiagonal();
+  const SightProcess proc(SightModel::speed_dependent(30, 5, 0.1), 3);
+  const QualityModel q({nn::Beta(4, 1.5), nn::Beta(1.5, 4)});
+  Iukf<ConstantVelocity2> iukf(motion, st, g, ForwardFilter(proc, q));
+  Ukf<ConstantVelocity2> ukf(motion, st, g);
+  VecXi s(3);
+  s << 0, 1, 0;
+  MatX gamma = MatX::Zero(3, 2);
+  for (int b = 0; b < 3; ++b) gamma(b, s(b)) = 1.0;
+  VecX y(4);
+  y << 500, 850, 640, 0.9;
+  iukf.predict();
+  const StepResult ri = iukf.update_with_probabilities(y, gamma);
+  const StepResult ru = ukf.step(y, s);
+  CHECK((iukf.mean() - ukf.mean()).cwiseAbs().maxCoeff() < 1e-9);
+  CHECK((iukf.cov() - ukf.cov()).cwiseAbs().maxCoeff() < 1e-9);
+  CHECK_THAT(ri.log_likelihood, WithinAbs(ru.log_likelihood, 1e-9));
+  // uncertain probabilities inflate the innovation covariance: a smaller gain than under LOS
+  Iukf<ConstantVelocity2> mixed(motion, st, g, ForwardFilter(proc, q));
+  Ukf<ConstantVelocity2> los(motion, st, g);
+  mixed.predict();
+  mixed.update_with_probabilities(y, MatX::Constant(3, 2, 0.5));
+  los.step(y, VecXi::Zero(3));
+  CHECK(mixed.cov().trace() > los.cov().trace());
+  // full step with quality statistics
+  Iukf<ConstantVelocity2> f(motion, st, g, ForwardFilter(proc, q));
+  VecX o(3);
+  o << 0.9, 0.1, 0.9;
+  const StepResult r = f.step_quality(y, o);
+  CHECK(std::isfinite(r.log_likelihood));
+  CHECK(f.sight_estimate()(1) == 1);
+  CHECK_THROWS_AS(f.step_quality(y, VecX::Zero(2)), std::invalid_argument);
+}
+
+TEST_CASE("closed-form switch probability equals eqs. 15, 17, 18", "[situation]") {
+  for (auto form : {SpeedModel::kSingle, SpeedModel::kMultiple, SpeedModel::kMemoryless}) {
+    const SightModel m = SightModel::speed_dependent(30.0, 5.0, 0.01, form);
+    for (double w : {0.0, 3.0, 10.0, 1e4}) {
+      const MatX T = m.transition(1, w);
+      CHECK_THAT(speed_switch_probability(m, 0, w), WithinAbs(T(0, 1), 1e-14));
+      CHECK_THAT(speed_switch_probability(m, 1, w), WithinAbs(T(1, 0), 1e-14));
+    }
+  }
+}

@@ -1,0 +1,234 @@
+// Snapshot baselines (snapshot/*): the Gauss-Newton LOS fix and its closed-form start on exact data, MLE-LOS
+// on a range + bearing pair, and CHEN / CONG / URR on hand-built geometries with known NLOS anchors.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
+
+#include "nlosloc/snapshot/snapshot.hpp"
+
+using namespace nlosloc;
+using namespace nlosloc::snapshot;
+using Catch::Matchers::WithinAbs;
+
+template class nlosloc::sim::SnapshotEstimator<MleLos>;
+template class nlosloc::sim::SnapshotEstimator<Chen>;
+template class nlosloc::sim::SnapshotEstimator<Cong>;
+template class nlosloc::sim::SnapshotEstimator<Urruela>;
+
+namespace {
+
+MatX hexagon(double r) {
+  MatX a(6, 2);
+  for (int k = 0; k < 6; ++k) {
+    a(k, 0) = r * std::cos(k * kPi / 3.0);
+    a(k, 1) = r * std::sin(k * kPi / 3.0);
+  }
+  return a;
+}
+
+/// Six RTOA anchors on a 3 km hexagon, LOS N(0, 10), NLOS Rayleigh variance 5000 (Huerta Table X).
+MeasurementStack rtoa_stack() {
+  MeasurementStack st(ConstantVelocityClock2::layout(), hexagon(3000.0), 2);
+  for (int b = 0; b < 6; ++b)
+    st.add_rtoa(b, {noise::Normal(0.0, std::sqrt(10.0)), noise::Rayleigh::from_variance(5000.0)});
+  return st;
+}
+
+/// RTOA measurements of position p, clock tau, plus bias[b] and N(0, sigma^2) noise.
+VecX rtoa(const MatX& anchors, const Vec<2>& p, double tau, const VecX& bias, double sigma, Rng& rng) {
+  VecX y(anchors.rows());
+  for (Eigen::Index b = 0; b < anchors.rows(); ++b)
+    y[b] = (p - anchors.row(b).transpose()).norm() + tau + bias[b] + sigma * rng.normal();
+  return y;
+}
+
+}  // namespace
+
+TEST_CASE("LosSolver: exact TOA and RTOA data give the true position and clock", "[snapshot]") {
+  const Vec<2> p(123.0, -456.0);
+  SECTION("TOA, 3 anchors, 2 unknowns") {
+    MatX a(3, 2);
+    a << 0, 0, 1000, 0, 0, 1000;
+    MeasurementStack st(ConstantVelocity2::layout(), a, 2);
+    for (int b = 0; b < 3; ++b) st.add_toa(b, {noise::Normal(0.0, 1.0), noise::Normal(0.0, 1.0)});
+    LosSolver s(st);
+    REQUIRE(s.unknowns() == 2);
+    REQUIRE_FALSE(s.has_clock());
+    VecX y(3);
+    for (int b = 0; b < 3; ++b) y[b] = (p - a.row(b).transpose()).norm();
+    Theta lin;
+    std::vector<char> use(3, 1);
+    REQUIRE(s.linear_start(y, use, lin));
+    CHECK_THAT(lin[0], WithinAbs(p[0], 1e-6));
+    CHECK_THAT(lin[1], WithinAbs(p[1], 1e-6));
+    const Fix f = s.solve_los(y, Theta::Zero(2));
+    REQUIRE(f.converged);
+    CHECK_THAT(f.theta[0], WithinAbs(p[0], 1e-5));
+    CHECK_THAT(f.theta[1], WithinAbs(p[1], 1e-5));
+    CHECK(f.cost < 1e-12);
+  }
+  SECTION("RTOA, 6 anchors, clock bias as third unknown") {
+    const MeasurementStack st = rtoa_stack();
+    LosSolver s(st);
+    REQUIRE(s.unknowns() == 3);
+    REQUIRE(s.has_clock());
+    Rng rng(1);
+    const VecX y = rtoa(st.anchors(), p, 7.5, VecX::Zero(6), 0.0, rng);
+    Theta lin;
+    std::vector<char> use(6, 1);
+    REQUIRE(s.linear_start(y, use, lin));
+    CHECK_THAT(lin[2], WithinAbs(7.5, 1e-6));
+    Theta start(3);
+    start << 500.0, 500.0, 0.0;
+    const Fix f = s.solve_los(y, start);
+    REQUIRE(f.converged);
+    CHECK_THAT(f.theta[0], WithinAbs(p[0], 1e-5));
+    CHECK_THAT(f.theta[1], WithinAbs(p[1], 1e-5));
+    CHECK_THAT(f.theta[2], WithinAbs(7.5, 1e-5));
+  }
+  SECTION("a split-normal row pulls the fix by its mode") {
+    const MeasurementStack st = rtoa_stack();
+    LosSolver s(st);
+    Rng rng(2);
+    VecX bias = VecX::Zero(6);
+    bias[0] = 100.0;
+    const VecX y = rtoa(st.anchors(), p, 0.0, bias, 0.0, rng);
+    std::vector<RowNoise> nz = s.los_noise();
+    nz[0] = RowNoise{100.0, 5.0, 50.0};  // mode at the true bias
+    const Fix f = s.solve(y, Theta::Zero(3), std::vector<char>(6, 1), nz);
+    CHECK_THAT(f.theta[0], WithinAbs(p[0], 1e-4));
+    CHECK_THAT(f.theta[1], WithinAbs(p[1], 1e-4));
+  }
+}
+
+TEST_CASE("LosSolver: argument checks name the argument", "[snapshot]") {
+  const MeasurementStack st = rtoa_stack();
+  LosSolver s(st);
+  CHECK_THROWS_WITH(s.solve(VecX::Zero(5), Theta::Zero(3), std::vector<char>(6, 1), s.los_noise()),
+                    Catch::Matchers::Contains("y"));
+  CHECK_THROWS_WITH(s.solve(VecX::Zero(6), Theta::Zero(2), std::vector<char>(6, 1), s.los_noise()),
+                    Catch::Matchers::Contains("theta0"));
+  CHECK_THROWS_WITH(Chen(st, ChenOptions{-1, 1.0}), Catch::Matchers::Contains("reject_fraction"));
+  CHECK_THROWS_WITH(subsets_at_least(21, 1), Catch::Matchers::Contains("num_anchors"));
+}
+
+TEST_CASE("subsets_at_least enumerates larger sets first", "[snapshot]") {
+  const auto v = subsets_at_least(6, 4);
+  REQUIRE(v.size() == 22u);  // C(6,6) + C(6,5) + C(6,4)
+  CHECK(v.front() == 0x3Fu);
+  CHECK(mask_count(v.back()) == 4);
+  CHECK(subsets_at_least(6, 3).size() == 42u);
+}
+
+TEST_CASE("MleLos: one anchor, range and array phase (H1 geometry) is the polar inversion", "[snapshot]") {
+  MeasurementStack st(ConstantVelocity2::layout(), MatX::Zero(1, 2), 2);
+  st.add_toa(0, {noise::Normal(0.0, std::sqrt(10.0)), noise::Rayleigh::from_variance(2000.0)});
+  const double c = kPi / 2.0;
+  st.add_aoa_phase(0, c, {noise::Normal(0.0, 3e-3), noise::Normal(0.0, 3e-2)});
+  MleLos mle(st);
+  const Vec<2> p(-300.0, 400.0);
+  VecX y(2);
+  y << p.norm(), kPi * std::sin(std::atan2(p[1], p[0]) - c);
+  const SnapshotResult& r = mle.solve(y);
+  REQUIRE(r.valid);
+  CHECK_THAT(r.theta[0], WithinAbs(p[0], 1e-6));
+  CHECK_THAT(r.theta[1], WithinAbs(p[1], 1e-6));
+  // A missing phase leaves one equation for two unknowns: still a finite answer, not a crash.
+  y[1] = std::numeric_limits<double>::quiet_NaN();
+  CHECK(mle.solve(y).theta.allFinite());
+}
+
+TEST_CASE("CHEN: residual weighting follows the all-LOS combinations", "[snapshot]") {
+  const MeasurementStack st = rtoa_stack();
+  Chen chen(st);
+  REQUIRE(chen.combinations().size() == 22u);
+  const Vec<2> p(250.0, -100.0);
+  VecX bias = VecX::Zero(6);
+  bias[1] = 180.0;
+  bias[4] = 260.0;
+  Rng rng(3);
+  double err_chen = 0.0, err_los = 0.0;
+  MleLos mle(st);
+  const int E = 20;
+  for (int e = 0; e < E; ++e) {
+    const VecX y = rtoa(st.anchors(), p, 3.0, bias, std::sqrt(10.0), rng);
+    err_chen += (chen.solve(y).theta.head<2>() - p).norm() / E;
+    err_los += (mle.solve(y).theta.head<2>() - p).norm() / E;
+  }
+  // Two NLOS anchors: all-anchor ML is pulled by tens of metres; CHEN stays near the LOS-only fix.
+  CHECK(err_chen < 15.0);
+  CHECK(err_los > 2.0 * err_chen);
+}
+
+TEST_CASE("CONG: residual test finds the LOS set, otherwise falls back to the split-normal rows",
+          "[snapshot]") {
+  const MeasurementStack st = rtoa_stack();
+  Cong cong(st);
+  // The fitted split normal of the Rayleigh (variance 5000): mode near the Rayleigh mode (scale 107.9).
+  const RowNoise& a = cong.nlos_noise()[0];
+  CHECK(a.center > 60.0);
+  CHECK(a.center < 160.0);
+  CHECK(a.sigma_right > a.sigma_left);
+  const Vec<2> p(-400.0, 700.0);
+  Rng rng(4);
+  SECTION("four LOS anchors: found and used") {
+    VecX bias = VecX::Zero(6);
+    bias[0] = 150.0;
+    bias[3] = 90.0;
+    int right = 0;
+    double err = 0.0;
+    for (int e = 0; e < 20; ++e) {
+      const VecX y = rtoa(st.anchors(), p, -2.0, bias, std::sqrt(10.0), rng);
+      const SnapshotResult& r = cong.solve(y);
+      REQUIRE(r.valid);
+      VecXi truth(6);
+      truth << 1, 0, 0, 1, 0, 0;
+      right += cong.enough_los() && r.sight == truth;
+      err += (r.theta.head<2>() - p).norm() / 20;
+    }
+    CHECK(right >= 18);
+    CHECK(err < 15.0);
+  }
+  SECTION("only two LOS anchors: too few, every anchor declared NLOS") {
+    VecX bias(6);
+    bias << 150.0, 0.0, 120.0, 200.0, 0.0, 80.0;
+    const VecX y = rtoa(st.anchors(), p, 0.0, bias, std::sqrt(10.0), rng);
+    const SnapshotResult& r = cong.solve(y);
+    REQUIRE(r.valid);
+    CHECK_FALSE(cong.enough_los());
+    CHECK(r.sight == VecXi::Ones(6));
+    CHECK((r.theta.head<2>() - p).norm() < 300.0);
+  }
+}
+
+TEST_CASE("URR: the trellis settles on the true LOS hypothesis", "[snapshot]") {
+  const MeasurementStack st = rtoa_stack();
+  UrruelaOptions o;
+  o.nlos_span = 330.0;
+  Urruela urr(st, o);
+  REQUIRE(urr.hypotheses().size() == 42u);  // LOS sets of >= 3 anchors
+  const Vec<2> p(600.0, 300.0);
+  VecX bias = VecX::Zero(6);
+  bias[2] = 140.0;
+  bias[5] = 220.0;
+  VecXi truth(6);
+  truth << 0, 0, 1, 0, 0, 1;
+  Rng rng(5);
+  int right = 0;
+  double err = 0.0;
+  for (int e = 0; e < 30; ++e) {
+    const VecX y = rtoa(st.anchors(), p, 4.0, bias, std::sqrt(10.0), rng);
+    const SnapshotResult& r = urr.solve(y);
+    REQUIRE(r.valid);
+    if (e >= 10) {
+      right += r.sight == truth;
+      err += (r.theta.head<2>() - p).norm() / 20;
+    }
+  }
+  CHECK(right >= 19);
+  CHECK(err < 15.0);
+  // Path metrics are normalised: the best is 0.
+  double mn = 1e300;
+  for (double d : urr.path_metrics()) mn = std::min(mn, d);
+  CHECK_THAT(mn, WithinAbs(0.0, 1e-12));
+}

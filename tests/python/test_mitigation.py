@@ -1,0 +1,180 @@
+"""nlosloc.mitigation: Ke & Wu 2011's QP adapter, Sec. 3 bias estimation, the proposed tracker
+and the bias-augmented (iterated NLOS) EKF through the Python bindings, plus an osqp check of the
+QPs that the bias estimation actually builds."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from nlosloc import mitigation, models
+
+pytestmark = pytest.mark.skipif(
+    not mitigation.have_default_box_qp, reason="nlosloc built without proxsuite"
+)
+
+ANCHORS = np.array([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]])
+EXACT = np.array([5.0, np.sqrt(65.0), np.sqrt(45.0)])  # ranges from (3, 4)
+K1_ANCHORS = np.array([[0.0, 0.0], [8600.0, 0.0], [4300.0, 7500.0]])
+
+
+def motion(dt: float = 0.1, accel: float = 1.0) -> models.ConstantVelocity2:
+    return models.ConstantVelocity2(dt, accel, models.VelocityNoise.WhiteAcceleration)
+
+
+def test_box_qp_small_problem_and_errors() -> None:
+    qp = mitigation.make_box_qp(3)
+    h = np.diag([2.0, 0.0, 1.0])
+    res = qp.solve(h, np.array([-4.0, 1.0, 3.0]), np.zeros(3), np.array([1.0, 5.0, 5.0]))
+    assert res.ok() and res.status == mitigation.QpStatus.Solved
+    np.testing.assert_allclose(qp.x, [1.0, 0.0, 0.0], atol=1e-7)
+    assert res.objective == pytest.approx(-3.0, abs=1e-7)
+    with pytest.raises(ValueError, match="lower"):
+        qp.solve(h, np.zeros(3), np.ones(3), np.zeros(3))
+    with pytest.raises(ValueError, match="solver"):
+        mitigation.make_box_qp(3, solver="nope")
+    failing = mitigation.make_box_qp(3, solver="failing")
+    assert (
+        failing.solve(h, np.zeros(3), np.zeros(3), np.ones(3)).status == mitigation.QpStatus.Failed
+    )
+
+
+def test_bias_estimation_eqs_10_to_15() -> None:
+    est = mitigation.BiasEstimator(ANCHORS)
+    e = est.estimate(EXACT, np.ones(3))
+    assert e.flags == 0
+    assert e.reference.kind == mitigation.ReferenceKind.FeasibleVertices
+    np.testing.assert_allclose(e.reference.point, [3.0, 4.0], atol=1e-9)
+    h0 = np.array([[0.6, 0.8], [-7, 4] / np.sqrt(65), [3, -6] / np.sqrt(45)])
+    np.testing.assert_allclose(est.H0, h0, atol=1e-12)
+    np.testing.assert_allclose(est.U @ est.H0, -np.eye(2), atol=1e-12)  # eq. (11)
+    np.testing.assert_allclose(est.L @ est.H0, 0.0, atol=1e-12)  # eq. (12)
+    np.testing.assert_allclose(est.sigma_v, est.L @ est.L.T, atol=1e-12)  # eq. (13), R = I
+    l23 = np.sqrt(200.0)
+    np.testing.assert_allclose(
+        e.upper,
+        [5 + np.sqrt(45) - 10, np.sqrt(65) + np.sqrt(45) - l23, np.sqrt(65) + np.sqrt(45) - l23],
+    )
+    np.testing.assert_allclose(e.bias, 0.0, atol=1e-6)
+
+
+def test_bias_estimation_fallbacks() -> None:
+    est = mitigation.BiasEstimator(ANCHORS)
+    e = est.estimate(np.array([3.0, 3.0, 6.0]), np.ones(3), hint=np.array([2.0, 2.0]))
+    assert e.flags & mitigation.FLAG_BOUNDS_CLAMPED
+    assert e.flags & mitigation.FLAG_REFERENCE_FALLBACK
+    assert e.reference.kind == mitigation.ReferenceKind.Hint
+    assert np.all(np.isfinite(e.bias)) and np.all(e.bias <= e.upper)
+    failing = mitigation.BiasEstimator(ANCHORS, solver="failing")
+    e = failing.estimate(EXACT + np.array([0, 0, 2.0]), np.ones(3))
+    assert e.flags & mitigation.FLAG_QP_FAILED
+    np.testing.assert_array_equal(e.bias, 0.0)
+    with pytest.raises(ValueError, match="variances"):
+        est.estimate(EXACT, -np.ones(3))
+    with pytest.raises(ValueError, match="anchors"):
+        mitigation.BiasEstimator(ANCHORS[:2])
+
+
+def test_bias_qps_match_osqp() -> None:
+    """The QPs of eq. (14) built from random K1-like ranges: proxsuite's objective equals osqp's."""
+    osqp = pytest.importorskip("osqp")
+    rng = np.random.default_rng(4)
+    est = mitigation.BiasEstimator(K1_ANCHORS)
+    qp = mitigation.make_box_qp(3)
+    for _ in range(50):
+        p = rng.uniform([500, 500], [5000, 5000])
+        d = np.linalg.norm(p - K1_ANCHORS, axis=1)
+        z = d + rng.normal(0, 50, 3) + rng.normal(513, 436, 3) * (rng.random(3) < 0.7)
+        e = est.estimate(z, np.full(3, 2500.0), hint=p)
+        h, g = est.qp_hessian, est.qp_gradient
+        s = np.sqrt(2500.0)
+        lo, up = e.lower / s, e.upper / s
+        assert qp.solve(h, g, lo, up).ok()
+        prob = osqp.OSQP()
+        prob.setup(
+            P=sp.csc_matrix(np.triu(h)),
+            q=g,
+            A=sp.identity(3, format="csc"),
+            l=lo,
+            u=up,
+            eps_abs=1e-11,
+            eps_rel=1e-11,
+            max_iter=200000,
+            polishing=True,
+            verbose=False,
+        )
+        xo = np.clip(prob.solve(raise_error=False).x, lo, up)
+        fo = 0.5 * xo @ h @ xo + g @ xo
+        f = 0.5 * qp.x @ h @ qp.x + g @ qp.x
+        assert abs(f - fo) <= 1e-6 * max(1.0, abs(fo))
+
+
+def test_innovation_test_eqs_31_32() -> None:
+    opt = mitigation.QpBiasEkfOptions()
+    opt.noise = mitigation.RangeNoise(1.0)
+    mean, cov = np.array([3.0, 4.0, 0.0, 0.0]), np.eye(4)
+    f = mitigation.QpBiasEkf(motion(), ANCHORS, mean, cov, opt)
+    s = f.update(EXACT + 1.0)
+    assert s.threshold == pytest.approx(6.6) and s.innovation_sq == pytest.approx(3.0)
+    assert not s.nlos and not s.bias_estimated
+    g = mitigation.QpBiasEkf(motion(), ANCHORS, mean, cov, opt)
+    s = g.update(EXACT + np.array([0, 0, 3.0]))
+    assert s.nlos and s.bias_estimated and g.nlos_detected and g.bias.sum() > 0
+    assert isinstance(s.filter.log_likelihood, float)
+
+
+def test_qp_failure_keeps_a_finite_state() -> None:
+    opt = mitigation.QpBiasEkfOptions()
+    opt.always_estimate = True
+    opt.noise = mitigation.RangeNoise(0.5)
+    mean, cov = np.array([2.5, 4.5, 0, 0]), np.eye(4)
+    f = mitigation.QpBiasEkf(motion(), ANCHORS, mean, cov, opt, solver="failing")
+    s = f.update(EXACT + np.array([0, 3.0, 0]))
+    assert s.flags & mitigation.FLAG_QP_FAILED
+    assert np.all(np.isfinite(f.mean)) and np.all(f.bias == 0)
+    with pytest.raises(ValueError, match="gamma"):
+        bad = mitigation.QpBiasEkfOptions()
+        bad.gamma = 0.2
+        mitigation.QpBiasEkf(motion(), ANCHORS, mean, cov, bad)
+
+
+def k1_track(rng: np.random.Generator, steps: int, nlos: np.ndarray):
+    x = np.array([1000.0, 1000.0, 10.0, 15.0])
+    truth, z = [], []
+    for k in range(steps):
+        if k:
+            a = rng.normal(size=2)
+            x = np.array(
+                [
+                    x[0] + 0.1 * x[2] + 0.005 * a[0],
+                    x[1] + 0.1 * x[3] + 0.005 * a[1],
+                    x[2] + 0.1 * a[0],
+                    x[3] + 0.1 * a[1],
+                ]
+            )
+        d = np.linalg.norm(x[:2] - K1_ANCHORS, axis=1)
+        truth.append(x[:2].copy())
+        z.append(d + rng.normal(0, 50, 3) + nlos * rng.normal(513, 436, 3))
+    return np.array(truth), np.array(z)
+
+
+def test_trackers_on_a_k1_like_track() -> None:
+    rng = np.random.default_rng(11)
+    truth, z = k1_track(rng, 800, np.ones(3))
+    mean = np.array([1000.0, 1000.0, 10.0, 15.0]) + rng.normal(0, [50, 50, 10, 10])
+    cov = np.diag([50.0**2, 50.0**2, 100.0, 100.0])
+    opt = mitigation.QpBiasEkfOptions()
+    prop = mitigation.QpBiasEkf(motion(), K1_ANCHORS, mean, cov, opt)
+    plain_opt = mitigation.QpBiasEkfOptions()
+    plain_opt.mitigate = False
+    plain = mitigation.QpBiasEkf(motion(), K1_ANCHORS, mean, cov, plain_opt)
+    ep = np.linalg.norm(prop.run(z)[100:, :2] - truth[100:], axis=1)
+    ee = np.linalg.norm(plain.run(z)[100:, :2] - truth[100:], axis=1)
+    assert np.percentile(ep, 67) < 0.8 * np.percentile(ee, 67)
+    aug = mitigation.BiasAugmentedEkf(motion(), K1_ANCHORS, mean, cov)
+    assert aug.state_dim == 7
+    for k in range(200):
+        (aug.update if k == 0 else aug.step)(z[k])
+    assert np.all(np.isfinite(aug.mean)) and np.all(aug.bias >= 0)
+    assert aug.kinematic_mean.shape == (4,)

@@ -1,0 +1,118 @@
+"""nlosloc.rbpf: RBPF (classical, reordered), joint PF, IUKF, merge/resampling helpers; and
+nlosloc.bounds.gcrb_rtoa."""
+
+import numpy as np
+import pytest
+
+from nlosloc import bounds, models, noise, rbpf, situation
+
+ANCHORS = np.array([[3000 * np.cos(b * np.pi / 3), 3000 * np.sin(b * np.pi / 3)] for b in range(6)])
+MOTION = models.ConstantVelocityClock2(0.01, 1.0, 1e-2)
+X0 = np.zeros(6)
+P0 = np.diag([25.0, 25.0, 10.0, 1.0, 1.0, 10.0])
+
+
+def stack():
+    st = models.MeasurementStack(models.ConstantVelocityClock2.layout(), ANCHORS, 2)
+    for b in range(6):
+        st.add_rtoa(b, [noise.Normal(0.0, np.sqrt(10.0)), noise.Rayleigh.from_variance(5000.0)])
+    return st
+
+
+SIGHT = situation.SightProcess(situation.SightModel.speed_dependent(10.0, 10.0, 0.01), 6)
+QUALITY = situation.QualityModel([noise.Beta(4.0, 1.5), noise.Beta(1.5, 4.0)])
+
+
+def track(steps=100, seed=0):
+    rng = np.random.default_rng(seed)
+    s = rng.integers(0, 2, 6)
+    x = np.array([0.0, 0.0, 0.0, 1.0, 0.5, 0.0])
+    Y, Q_obs, S = [], [], []
+    for _ in range(steps):
+        x[:3] += 0.01 * x[3:]
+        flip = rng.random(6) < 0.002
+        s = np.where(flip, 1 - s, s)
+        d = np.linalg.norm(ANCHORS - x[:2], axis=1) + x[2]
+        n = np.where(
+            s == 0,
+            rng.normal(0, np.sqrt(10.0), 6),
+            rng.rayleigh(np.sqrt(2 * 5000 / (4 - np.pi)), 6),
+        )
+        Y.append(d + n)
+        Q_obs.append(np.where(s == 0, rng.beta(4, 1.5, 6), rng.beta(1.5, 4, 6)))
+        S.append(s.copy())
+    return np.array(Y), np.array(Q_obs), np.array(S), x
+
+
+@pytest.mark.parametrize(
+    "variant,m", [(rbpf.RbpfVariant.Reordered, 16), (rbpf.RbpfVariant.Classical, 2)]
+)
+def test_rbpf_run_and_step(variant, m):
+    Y, Q_obs, S, x = track()
+    opt = rbpf.RbpfOptions(variant=variant, num_particles=m, threads=2)
+    f = rbpf.Rbpf(MOTION, stack(), SIGHT, QUALITY, X0, P0, opt)
+    out = f.run(Y, Q_obs)
+    assert out["mean"].shape == (100, 6)
+    assert out["cov"].shape == (100, 6, 6)
+    assert out["situation_probabilities"].shape == (100, 6, 2)
+    np.testing.assert_allclose(out["situation_probabilities"].sum(axis=2), 1.0, atol=1e-9)
+    assert np.linalg.norm(out["mean"][-1, :2] - x[:2]) < 15.0
+    assert (f.sight_estimate() == S[-1]).mean() >= 0.5
+    assert f.num_particles <= m
+    assert f.weights.sum() == pytest.approx(1.0)
+    info = f.step(Y[-1], Q_obs[-1])
+    assert info.ukf_runs > 0 and info.failures == 0
+    assert f.particle_situation(0).shape == (6,)
+    with pytest.raises(ValueError, match="o"):
+        f.step(Y[-1], Q_obs[-1][:3])
+
+
+def test_rbpf_bad_options():
+    with pytest.raises(ValueError, match="num_particles"):
+        rbpf.Rbpf(MOTION, stack(), SIGHT, QUALITY, X0, P0, rbpf.RbpfOptions(num_particles=0))
+    with pytest.raises(ValueError, match="mean"):
+        rbpf.Rbpf(MOTION, stack(), SIGHT, QUALITY, np.zeros(4), P0)
+
+
+def test_particle_filter_and_iukf():
+    Y, Q_obs, _, x = track(seed=2)
+    pf = rbpf.ParticleFilter(
+        MOTION,
+        stack(),
+        SIGHT,
+        QUALITY,
+        X0,
+        P0,
+        rbpf.PfOptions(num_particles=20000, threads=2, seed=1),
+    )
+    out = pf.run(Y, Q_obs)
+    assert np.linalg.norm(out["mean"][-1, :2] - x[:2]) < 15.0
+    assert pf.particles.shape == (6, 20000)
+    iukf = rbpf.Iukf(MOTION, stack(), SIGHT, QUALITY, X0, P0)
+    res = iukf.run(Y, Q_obs)
+    assert np.all(np.isfinite(res["mean"]))
+    assert iukf.situation_probabilities.shape == (6, 2)
+
+
+def test_merge_and_resampling_helpers():
+    logw = np.log([0.1, 0.3, 0.2, 0.25, 0.15])
+    means = np.array([[0.0, 0.05, 0.5, 0.01, 0.09]])
+    new, n = rbpf.merge([0, 0, 0, 1, 0], means, logw, 0.1)
+    assert n == 2
+    np.testing.assert_allclose(np.exp(new), [0.0, 0.55, 0.2, 0.25, 0.0], atol=1e-14)
+    assert rbpf.default_merge_threshold(12.8, 128) == pytest.approx(0.01)
+    w = np.array([0.05, 0.4, 0.1, 0.3, 0.15])
+    rng = np.random.default_rng(0)
+    counts = np.zeros(5)
+    for u in rng.random(20000):
+        counts += np.bincount(rbpf.systematic_resample(w, 7, max(u, 1e-12)), minlength=5)
+    np.testing.assert_allclose(counts / 20000, 7 * w, atol=0.02)
+    assert rbpf.situation_count(2, 6) == 64
+
+
+def test_gcrb_below_crb():
+    r = bounds.gcrb_rtoa(ANCHORS, np.array([100.0, -50.0]), 10.0 * np.eye(6), 10.0)
+    assert np.all(np.linalg.eigvalsh(r.position_crb - r.position_gcrb) >= -1e-12)
+    assert r.J.shape == (3, 3)
+    with pytest.raises(ValueError, match="sigma_tau2"):
+        bounds.gcrb_rtoa(ANCHORS, np.zeros(2), np.eye(6), -1.0)

@@ -1,0 +1,71 @@
+"""nlosloc.situation: sight chains (Huerta eqs. 10, 15-18; Grisales eq. 16), quality
+likelihoods and the forward filter (eqs. 36-38) against hand values."""
+
+import math
+
+import numpy as np
+import pytest
+
+from nlosloc import core, noise, situation
+
+
+def test_speed_transitions_hand_values():
+    t15 = situation.speed_transition_single(10.0, 0.01, 30.0, 5.0)
+    np.testing.assert_allclose(t15, [[30 / 30.1, 0.1 / 30.1], [0.1 / 5.1, 5 / 5.1]], rtol=1e-14)
+    rho = 1.0 / (1.0 - (0.1 / 30.1) * (0.1 / 5.1))
+    t17 = situation.speed_transition_multiple(10.0, 0.01, 30.0, 5.0)
+    assert t17[0, 1] == pytest.approx(0.1 / 30.1 * 5 / 5.1 * rho, rel=1e-14)
+    np.testing.assert_allclose(t17.sum(axis=1), [1.0, 1.0], atol=1e-15)
+    t18 = situation.speed_transition_memoryless(30.0, 5.0)
+    assert t18[0, 1] == pytest.approx(5 / 35)
+    assert situation.transversal_speed(
+        np.array([100.0, 0.0]), np.array([3.0, 4.0]), np.zeros(2)
+    ) == pytest.approx(4.0)
+    with pytest.raises(ValueError, match="w"):
+        situation.speed_transition_single(-1.0, 0.01, 30.0, 5.0)
+
+
+def test_sight_model_and_process():
+    q = np.array([[0.97, 0.01, 0.02], [0.01, 0.97, 0.02], [0.025, 0.025, 0.95]])
+    m = situation.SightModel.fixed(q, 150)
+    assert m.num_conditions == 3
+    np.testing.assert_array_equal(m.transition(1), np.eye(3))
+    np.testing.assert_allclose(m.transition(150), q)
+    assert m.initial.sum() == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="k_sight"):
+        situation.SightModel.fixed(q, 0)
+    with pytest.raises(ValueError, match="transition"):
+        situation.SightModel.fixed(np.array([[0.5, 0.4], [0.1, 0.9]]))
+    sp = situation.SightModel.speed_dependent(30.0, 5.0, 0.01, situation.SpeedModel.Multiple)
+    assert sp.is_speed_dependent
+    proc = situation.SightProcess(sp, 4)
+    rng = core.Rng(3)
+    s0 = proc.sample_initial(rng)
+    s1 = proc.sample_next(s0, 1, np.full(4, 10.0), rng)
+    assert s1.shape == (4,)
+    assert proc.log_transition(s0, s0, 1, np.zeros(4)) == pytest.approx(0.0)
+
+
+def test_forward_filter_hand_calculation():
+    t = np.array([[0.9, 0.1], [0.2, 0.8]])
+    proc = situation.SightProcess(situation.SightModel.fixed(t, 1, np.array([0.5, 0.5])), 1)
+    qm = situation.QualityModel([noise.Normal(1.0, 0.5), noise.Normal(0.0, 0.5)])
+    f = situation.ForwardFilter(proc, qm)
+    f.step(np.array([0.8]))
+    l0, l1 = math.exp(-0.5 * 0.04 / 0.25), math.exp(-0.5 * 0.64 / 0.25)
+    g0 = 0.55 * l0 / (0.55 * l0 + 0.45 * l1)
+    assert f.predicted[0, 0] == pytest.approx(0.55)
+    assert f.probabilities[0, 0] == pytest.approx(g0, abs=1e-14)
+    f.step(np.array([np.nan]))
+    assert f.probabilities[0, 0] == pytest.approx(0.9 * g0 + 0.2 * (1 - g0), abs=1e-14)
+    with pytest.raises(ValueError, match="o"):
+        f.update(np.zeros(2))
+
+
+def test_quality_model_empirical():
+    rng = np.random.default_rng(1)
+    qm = situation.QualityModel([noise.Empirical(rng.beta(4, 1.5, 400)), noise.Beta(1.5, 4.0)])
+    table = qm.log_likelihood_table(np.array([0.9, 0.1, np.nan]))
+    assert table.shape == (3, 2)
+    assert table[0, 0] > table[0, 1] and table[1, 1] > table[1, 0]
+    np.testing.assert_array_equal(table[2], [0.0, 0.0])
