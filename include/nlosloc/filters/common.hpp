@@ -215,11 +215,18 @@ class UpdateTail {
         P(c, r) = P(r, c);  // W^T W is symmetric: keep P exactly symmetric
       }
     // log N(nu; 0, S) over the used rows; padded rows have unit pivots and zero innovation.
-    double log_det = 0.0, quad = 0.0;
+    // log|S| = 2 sum log L_ii, taken as the log of a running product of the pivots (one log call instead
+    // of m; the product is folded into the sum before it can overflow or underflow).
+    double log_det = 0.0, quad = 0.0, prod = 1.0;
     for (Eigen::Index i = 0; i < m; ++i) {
-      log_det += std::log(L_(i, i));
+      prod *= L_(i, i);
+      if (prod > 1e150 || prod < 1e-150) {
+        log_det += std::log(prod);
+        prod = 1.0;
+      }
       quad += w_[i] * w_[i];
     }
+    log_det += std::log(prod);
     constexpr double kLog2Pi = 1.8378770664093454835606594728112;  // log(2 pi)
     res.log_likelihood = -0.5 * (static_cast<double>(used) * kLog2Pi + 2.0 * log_det + quad);
     return true;
