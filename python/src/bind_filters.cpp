@@ -10,6 +10,7 @@
 #include <variant>
 
 #include "bind.hpp"
+#include "motion_arg.hpp"
 #include "nlosloc/filters/ekf.hpp"
 #include "nlosloc/filters/kf.hpp"
 #include "nlosloc/filters/ukf.hpp"
@@ -18,28 +19,8 @@ namespace py = pybind11;
 using namespace nlosloc;
 
 namespace {
-using AnyMotion = std::variant<ConstantVelocity2, ConstantVelocity3, ConstantVelocityClock2,
-                               ConstantVelocityClock3, TwoWayClock>;
-
-/// The motion argument: any of the motion classes of nlosloc.models.
-AnyMotion to_motion(const py::object& o) {
-  if (py::isinstance<ConstantVelocity2>(o)) return o.cast<ConstantVelocity2>();
-  if (py::isinstance<ConstantVelocity3>(o)) return o.cast<ConstantVelocity3>();
-  if (py::isinstance<ConstantVelocityClock2>(o)) return o.cast<ConstantVelocityClock2>();
-  if (py::isinstance<ConstantVelocityClock3>(o)) return o.cast<ConstantVelocityClock3>();
-  if (py::isinstance<TwoWayClock>(o)) return o.cast<TwoWayClock>();
-  throw std::invalid_argument(
-      "motion: expected ConstantVelocity2, ConstantVelocity3, ConstantVelocityClock2, ConstantVelocityClock3 "
-      "or TwoWayClock, got " +
-      std::string(py::str(py::type::of(o).attr("__name__"))));
-}
-
-template <int N>
-Gaussian<N> to_gaussian(const VecX& mean, const MatX& cov, const char* mname, const char* cname) {
-  detail::ensure_shape(mean, N, 1, mname);
-  detail::ensure_shape(cov, N, N, cname);
-  return Gaussian<N>(mean, cov);
-}
+using bind::to_gaussian;
+using bind::to_motion;
 
 /// A filter of family F over any motion model in AnyMotion.
 template <template <class> class F>

@@ -12,6 +12,7 @@
 #include <variant>
 
 #include "bind.hpp"
+#include "motion_arg.hpp"
 #include "nlosloc/filters/iukf.hpp"
 #include "nlosloc/rbpf/pf.hpp"
 #include "nlosloc/rbpf/rbpf.hpp"
@@ -22,28 +23,8 @@ using namespace nlosloc::rbpf;
 using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 namespace {
-using AnyMotion = std::variant<ConstantVelocity2, ConstantVelocity3, ConstantVelocityClock2,
-                               ConstantVelocityClock3, TwoWayClock>;
-
-AnyMotion to_motion(const py::object& o) {
-  if (py::isinstance<ConstantVelocity2>(o)) return o.cast<ConstantVelocity2>();
-  if (py::isinstance<ConstantVelocity3>(o)) return o.cast<ConstantVelocity3>();
-  if (py::isinstance<ConstantVelocityClock2>(o)) return o.cast<ConstantVelocityClock2>();
-  if (py::isinstance<ConstantVelocityClock3>(o)) return o.cast<ConstantVelocityClock3>();
-  if (py::isinstance<TwoWayClock>(o)) return o.cast<TwoWayClock>();
-  throw std::invalid_argument(
-      "motion: expected ConstantVelocity2, ConstantVelocity3, ConstantVelocityClock2, ConstantVelocityClock3 "
-      "or "
-      "TwoWayClock, got " +
-      std::string(py::str(py::type::of(o).attr("__name__"))));
-}
-
-template <int N>
-Gaussian<N> to_gaussian(const VecX& mean, const MatX& cov) {
-  detail::ensure_shape(mean, N, 1, "mean");
-  detail::ensure_shape(cov, N, N, "cov");
-  return Gaussian<N>(mean, cov);
-}
+using bind::to_gaussian;
+using bind::to_motion;
 
 /// A (non-copyable) filter F<Motion> for any motion model, owned through unique_ptr.
 template <template <class> class F>

@@ -89,28 +89,12 @@ CholeskyStatus factor_state_cov(const Mat<N, N>& P, Mat<N, N>& L, double* jitter
   return CholeskyStatus::kFailed;
 }
 
-/// Factorises A (symmetrised in place) into llt; on failure retries with a diagonal jitter
-/// eps * mean|diag| for eps = 1e-12, 1e-10, 1e-8 (documented fallback of core/cholesky.hpp). A keeps the
-/// jitter that was used. No allocation when llt was sized for A.
-template <class LLT, class M>
-CholeskyStatus factor_inplace(LLT& llt, M& A, double* jitter) {
-  *jitter = 0.0;
-  if (!A.allFinite()) return CholeskyStatus::kFailed;
-  symmetrize(A);
-  llt.compute(A);
-  if (llt.info() == Eigen::Success) return CholeskyStatus::kOk;
-  const double scale = std::max(A.diagonal().cwiseAbs().mean(), 1e-300);
-  double added = 0.0;
-  for (double eps : {1e-12, 1e-10, 1e-8}) {
-    A.diagonal().array() += eps * scale - added;
-    added = eps * scale;
-    llt.compute(A);
-    if (llt.info() == Eigen::Success) {
-      *jitter = added;
-      return CholeskyStatus::kJittered;
-    }
-  }
-  return CholeskyStatus::kFailed;
+/// Throws unless the measurement model's state layout has the motion model's state size N.
+template <int N, class Meas>
+void check_layout(const Meas& meas) {
+  if (meas.layout().dim != N)
+    throw_invalid_argument("measurements: layout dimension " + std::to_string(meas.layout().dim) +
+                           " does not match the motion model's state size " + std::to_string(N));
 }
 
 inline CholeskyStatus worse(CholeskyStatus a, CholeskyStatus b) {

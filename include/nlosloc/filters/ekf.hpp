@@ -18,9 +18,7 @@ class Ekf : public FilterBase<Ekf<Motion, Meas>, Motion> {
 
   Ekf(const Motion& motion, const Meas& meas, const Gaussian<kDim>& initial, double t0 = 0.0)
       : Base(motion, initial, t0), meas_(meas) {
-    NLOSLOC_ENSURE(meas.layout().dim == kDim,
-                   "measurements: layout dimension " + std::to_string(meas.layout().dim) +
-                       " does not match the motion model's state size " + std::to_string(kDim));
+    detail::check_layout<kDim>(meas);
     meas.check_ready();
     const int m = meas.rows();
     tail_.resize(m);

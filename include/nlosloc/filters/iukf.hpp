@@ -39,8 +39,7 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
         fwd_(std::move(forward)),
         scheme_(scheme),
         w_(scheme.weights(kDim)) {
-    NLOSLOC_ENSURE(meas.layout().dim == kDim,
-                   "measurements: layout dimension does not match the motion model");
+    detail::check_layout<kDim>(meas);
     meas.check_ready();
     NLOSLOC_ENSURE(fwd_.num_anchors() == meas.num_anchors(),
                    "forward: expected " + std::to_string(meas.num_anchors()) + " anchors");

@@ -46,9 +46,7 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
   Ukf(const Motion& motion, const Meas& meas, const Gaussian<kDim>& initial,
       const SigmaScheme& scheme = SigmaScheme::scaled(), double t0 = 0.0)
       : Base(motion, initial, t0), meas_(meas), scheme_(scheme), w_(scheme.weights(kDim)) {
-    NLOSLOC_ENSURE(meas.layout().dim == kDim,
-                   "measurements: layout dimension " + std::to_string(meas.layout().dim) +
-                       " does not match the motion model's state size " + std::to_string(kDim));
+    detail::check_layout<kDim>(meas);
     meas.check_ready();
     const int m = meas.rows();
     tail_.resize(m);
@@ -141,9 +139,7 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
   UkfAugmented(const Motion& motion, const Meas& meas, const Gaussian<kDim>& initial,
                const SigmaScheme& scheme = SigmaScheme::scaled(), double t0 = 0.0)
       : Base(motion, initial, t0), meas_(meas), scheme_(scheme) {
-    NLOSLOC_ENSURE(meas.layout().dim == kDim,
-                   "measurements: layout dimension " + std::to_string(meas.layout().dim) +
-                       " does not match the motion model's state size " + std::to_string(kDim));
+    detail::check_layout<kDim>(meas);
     meas.check_ready();
     q_ = meas.noise_dim();
     w_ = scheme.weights(kDim + q_);  // L_a = n + q (Huerta eq. 49)

@@ -79,7 +79,7 @@ class Rbpf {
         quality_(std::move(quality)),
         opt_(options),
         pool_(std::make_unique<ThreadPool>(options.threads)) {
-    NLOSLOC_ENSURE(meas.layout().dim == N, "measurements: layout dimension does not match the motion model");
+    ::nlosloc::detail::check_layout<N>(meas);
     meas.check_ready();
     NLOSLOC_ENSURE(options.num_particles >= 1,
                    "options.num_particles: expected M >= 1, got " + std::to_string(options.num_particles));
