@@ -125,13 +125,14 @@ class UpdateTail {
     Pxz.setZero(N, m);
     zhat.setZero(m);
     nu.setZero(m);
-    Kt_.setZero(m, N);
-    w_.setZero(m);
+    B_.setZero(m, N + 1);
     L_.setZero(m, m);
+    dinv_.setZero(m);
   }
 
   /// Applies the update to (x, P) (outputs may alias nothing else). `wrap` turns a raw residual into a
-  /// wrapped one (angles). Returns false (and leaves x, P untouched) when S cannot be factorised.
+  /// wrapped one (angles). Returns false (and leaves x, P untouched) when S cannot be factorised or the
+  /// gain is not finite.
   template <class Wrap>
   bool apply(const VecX& y, Wrap&& wrap, Vec<N>& x, Mat<N, N>& P, StepResult& res) {
     const Eigen::Index m = y.size();
@@ -155,21 +156,15 @@ class UpdateTail {
       return true;
     }
     // Cholesky of S with the documented fallback (core/cholesky.hpp): plain, then jitter eps * mean|diag|.
+    // Non-finite entries make a pivot fail or come out non-finite; both are caught below.
     symmetrize(S);
-    if (!S.allFinite()) {
-      res.status = CholeskyStatus::kFailed;
-      return false;
-    }
     CholeskyStatus st = CholeskyStatus::kOk;
     double jit = 0.0;
-    L_ = S;
-    if (!small_cholesky_inplace(L_)) {
+    if (!factor_s()) {
       const double scale = std::max(S.diagonal().cwiseAbs().mean(), 1e-300);
       st = CholeskyStatus::kFailed;
       for (double eps : {1e-12, 1e-10, 1e-8}) {
-        L_ = S;
-        L_.diagonal().array() += eps * scale;
-        if (small_cholesky_inplace(L_)) {
+        if (factor_s(eps * scale)) {
           st = CholeskyStatus::kJittered;
           jit = eps * scale;
           break;
@@ -178,39 +173,42 @@ class UpdateTail {
     }
     res.status = worse(res.status, st);
     res.jitter = std::max(res.jitter, jit);
-    if (st == CholeskyStatus::kFailed) return false;
-    // With W = L^-1 Pxz^T and w = L^-1 nu: x += K nu = W^T w, P -= K S K^T = Pxz S^-1 Pxz^T = W^T W.
-    // Plain loops: at m ~ 3..20 Eigen's dynamic-size expression set-up costs more than the arithmetic.
-    for (int c = 0; c < N; ++c)
-      for (Eigen::Index i = 0; i < m; ++i) Kt_(i, c) = Pxz(c, i);
-    small_forward_inplace(L_, Kt_);
-    w_ = nu;
-    small_forward_inplace(L_, w_);
-    for (int c = 0; c < N; ++c) {
-      double acc = 0.0;
-      for (Eigen::Index i = 0; i < m; ++i) acc += Kt_(i, c) * w_[i];
-      x[c] += acc;
-    }
-    for (int c = 0; c < N; ++c)
-      for (int r = c; r < N; ++r) {
-        double acc = 0.0;
-        for (Eigen::Index i = 0; i < m; ++i) acc += Kt_(i, r) * Kt_(i, c);
-        P(r, c) -= acc;
-        P(c, r) = P(r, c);  // W^T W is symmetric: keep P exactly symmetric
-      }
-    // log N(nu; 0, S) over the used rows; padded rows have unit pivots and zero innovation.
+    if (st == CholeskyStatus::kFailed) return fail(res);
     // log|S| = 2 sum log L_ii, taken as the log of a running product of the pivots (one log call instead
     // of m; the product is folded into the sum before it can overflow or underflow).
-    double log_det = 0.0, quad = 0.0, prod = 1.0;
+    double log_det = 0.0, prod = 1.0;
     for (Eigen::Index i = 0; i < m; ++i) {
       prod *= L_(i, i);
       if (prod > 1e150 || prod < 1e-150) {
         log_det += std::log(prod);
         prod = 1.0;
       }
-      quad += w_[i] * w_[i];
     }
     log_det += std::log(prod);
+    if (!std::isfinite(log_det)) return fail(res);  // an infinite pivot: S had an infinite entry
+    // One forward substitution for B = L^-1 [Pxz^T | nu] = [W | w], row by row on fixed-width rows.
+    // Then x += K nu = W^T w and P -= K S K^T = Pxz S^-1 Pxz^T = W^T W.
+    for (Eigen::Index i = 0; i < m; ++i) {
+      auto bi = B_.row(i);
+      bi.template head<N>() = Pxz.col(i).transpose();
+      bi[N] = nu[i];
+      for (Eigen::Index k = 0; k < i; ++k) bi -= L_(i, k) * B_.row(k);
+      bi *= dinv_[i];
+    }
+    if (!B_.allFinite()) return fail(res);
+    double quad = 0.0;
+    Vec<N> dx = Vec<N>::Zero();
+    Mat<N, N> dP = Mat<N, N>::Zero();
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const Eigen::Matrix<double, 1, N> wi = B_.row(i).template head<N>();
+      const double wn = B_(i, N);
+      quad += wn * wn;
+      dx.noalias() += wn * wi.transpose();
+      dP.noalias() += wi.transpose() * wi;  // outer products are exactly symmetric: P stays symmetric
+    }
+    x += dx;
+    P -= dP;
+    // log N(nu; 0, S) over the used rows; padded rows have unit pivots and zero innovation.
     constexpr double kLog2Pi = 1.8378770664093454835606594728112;  // log(2 pi)
     res.log_likelihood = -0.5 * (static_cast<double>(used) * kLog2Pi + 2.0 * log_det + quad);
     return true;
@@ -221,9 +219,33 @@ class UpdateTail {
   VecX zhat, nu;
 
  private:
-  Eigen::Matrix<double, Eigen::Dynamic, N> Kt_;
+  static bool fail(StepResult& res) {
+    res.status = CholeskyStatus::kFailed;
+    return false;
+  }
+  /// Lower Cholesky factor of S + jitter I into L_ (Cholesky-Banachiewicz, lower triangle of S only) and
+  /// the reciprocal pivots into dinv_. False when a pivot is not positive.
+  bool factor_s(double jitter = 0.0) {
+    const Eigen::Index n = S.rows();
+    for (Eigen::Index j = 0; j < n; ++j) {
+      double d = S(j, j) + jitter;
+      for (Eigen::Index k = 0; k < j; ++k) d -= L_(j, k) * L_(j, k);
+      if (!(d > 0.0)) return false;
+      d = std::sqrt(d);
+      L_(j, j) = d;
+      dinv_[j] = 1.0 / d;
+      for (Eigen::Index i = j + 1; i < n; ++i) {
+        double v = S(i, j);
+        for (Eigen::Index k = 0; k < j; ++k) v -= L_(i, k) * L_(j, k);
+        L_(i, j) = v * dinv_[j];
+      }
+    }
+    return true;
+  }
+
+  Eigen::Matrix<double, Eigen::Dynamic, N + 1, Eigen::RowMajor> B_;
   MatX L_;
-  VecX w_;
+  VecX dinv_;
 };
 
 }  // namespace detail

@@ -49,15 +49,13 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
                    "forward: a speed-dependent chain needs a velocity in the state layout");
     const int m = meas.rows(), nz = meas.num_conditions();
     tail_.resize(m);
-    Z_.setZero(m, kPoints);
-    Zw_.setZero(m, kPoints);
+    mom_.resize(m);
     Rn_.setZero(m, m);
     Rj_.setZero(m, m);
     mu_.setZero(m, nz);
     var_.setZero(m, m);
     nmean_.setZero(m);
     y_.setZero(m);
-    tmp_.setZero(m);
     sj_.setZero(meas.num_anchors());
     speeds_.setZero(meas.num_anchors());
     Pi_.setZero(m, nz);
@@ -126,13 +124,8 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
     Mat<kDim, kDim> L;
     res.status = detail::factor_state_cov(this->P_, L, &res.jitter);
     if (res.status == CholeskyStatus::kFailed) Base::fail("Iukf.update: P");
-    sigma_points(this->x_, L, w_.gamma, X_);  // Huerta eq. (49)
-    for (int j = 0; j < kPoints; ++j) {
-      auto zj = Z_.col(j);
-      meas_.predict(X_.col(j), this->t_, zj);
-    }
     auto& t = tail_;
-    detail::sigma_mean(meas_, Z_, w_, t.zhat, tmp_);
+    mom_.compute(meas_, this->x_, L, w_, this->t_, t.zhat, t.S, t.Pxz);  // eqs. (49)-(51), (VI.3)
     // Row weights: gamma of the row's anchor (rows without an anchor are always condition 0).
     for (int i = 0; i < m; ++i) {
       const int b = meas_.row(i).anchor;
@@ -152,17 +145,7 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
     }
     for (int i = 0; i < m; ++i)
       for (int k = 0; k < m; ++k) Rn_(i, k) = same_anchor(i, k) ? var_(i, k) - nmean_(i) * nmean_(k) : 0.0;
-    for (int j = 0; j < kPoints; ++j) {
-      Z_.col(j) -= t.zhat;
-      X_.col(j) -= this->x_;
-    }
-    meas_.wrap_residual_cols(Z_);
-    Zw_ = Z_;
-    Zw_.col(0) *= w_.wc0;
-    Zw_.rightCols(kPoints - 1) *= w_.wi;
-    t.S = Rn_;  // (VI.2): weighted set covariance
-    t.S.noalias() += Zw_.lazyProduct(Z_.transpose());
-    t.Pxz.noalias() = X_.lazyProduct(Zw_.transpose());  // (VI.3)
+    t.S += Rn_;  // (VI.2): weighted set covariance plus the mixed noise
     t.zhat += nmean_;
     if (!t.apply(
             y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
@@ -176,9 +159,9 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
   situation::ForwardFilter fwd_;
   SigmaScheme scheme_;
   SigmaWeights w_;
-  Mat<kDim, kPoints> X_;
-  MatX Z_, Zw_, Rn_, Rj_, mu_, var_, Pi_, onehot_;
-  VecX nmean_, y_, tmp_, speeds_;
+  detail::SigmaMoments<kDim> mom_;
+  MatX Rn_, Rj_, mu_, var_, Pi_, onehot_;
+  VecX nmean_, y_, speeds_;
   VecXi sj_;
   detail::UpdateTail<kDim> tail_;
 };

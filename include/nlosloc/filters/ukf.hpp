@@ -16,11 +16,10 @@ namespace nlosloc {
 namespace detail {
 /// Weighted mean of the columns of Z with angle rows averaged through residuals to the centre point,
 /// so a set that straddles +-pi averages correctly.
-template <class Meas>
-void sigma_mean(const Meas& meas, const MatX& Z, const SigmaWeights& w, VecX& zbar, VecX& tmp) {
+template <class Meas, class DZ>
+void sigma_mean(const Meas& meas, const Eigen::MatrixBase<DZ>& Z, const SigmaWeights& w, VecX& zbar) {
   const Eigen::Index K = Z.cols();
-  zbar = w.wm0 * Z.col(0);
-  for (Eigen::Index j = 1; j < K; ++j) zbar += w.wi * Z.col(j);
+  for (Eigen::Index i = 0; i < Z.rows(); ++i) zbar[i] = w.wm0 * Z(i, 0) + w.wi * Z.row(i).tail(K - 1).sum();
   if (!meas.has_angles()) return;
   for (int i = 0; i < meas.rows(); ++i) {
     if (!meas.is_angle(i)) continue;
@@ -28,8 +27,51 @@ void sigma_mean(const Meas& meas, const MatX& Z, const SigmaWeights& w, VecX& zb
     for (Eigen::Index j = 1; j < K; ++j) acc += w.wi * wrap_angle(Z(i, j) - Z(i, 0));
     zbar[i] = wrap_angle(Z(i, 0) + acc);  // sum of weights is 1
   }
-  (void)tmp;
 }
+
+/// Unscented moments of an additive-noise measurement stack without the noise (Huerta eqs. 49-51;
+/// Wan and van der Merwe 2000): from (x, L), L a lower Cholesky factor of P, the predicted measurement
+/// z_hat, the noise-free S = sum_j wc_j (Z_j - z_hat)(Z_j - z_hat)^T and the cross covariance Pxz.
+/// Pxz uses the known state deviations of the symmetric set, X_{+-i} - x = +-gamma L(:,i) (centre 0):
+/// Pxz = wi gamma L D^T with D(:,i) = Z_{+i} - Z_{-i}; z_hat cancels in each pair.
+/// Sigma-point images are stored row by row (one row per measurement row, 2N+1 fixed columns) so the
+/// range evaluation and the weighted sums run over contiguous fixed-size rows.
+template <int N>
+class SigmaMoments {
+ public:
+  static constexpr int K = 2 * N + 1;
+
+  void resize(int m) {
+    Z_.setZero(m, K);
+    wc_.setConstant(0.0);
+  }
+
+  template <class Meas>
+  void compute(const Meas& meas, const Vec<N>& x, const Mat<N, N>& L, const SigmaWeights& w, double t,
+               VecX& zhat, MatX& S, Eigen::Matrix<double, N, Eigen::Dynamic>& Pxz) {
+    sigma_points(x, L, w.gamma, X_);  // eq. (49)
+    meas.predict_columns(X_, t, Z_);
+    sigma_mean(meas, Z_, w, zhat);  // eq. (51)
+    const Eigen::Index m = Z_.rows();
+    for (Eigen::Index i = 0; i < m; ++i) Z_.row(i).array() -= zhat[i];
+    meas.wrap_residual_cols(Z_);
+    wc_.setConstant(w.wi);
+    wc_[0] = w.wc0;
+    const double gw = w.wi * w.gamma;
+    for (Eigen::Index b = 0; b < m; ++b) {
+      const Eigen::Matrix<double, 1, K> zb = Z_.row(b).cwiseProduct(wc_);
+      for (Eigen::Index a = b; a < m; ++a) S(a, b) = S(b, a) = zb.dot(Z_.row(a));  // eq. (51)
+      const Eigen::Matrix<double, N, 1> d =
+          (Z_.row(b).template segment<N>(1) - Z_.row(b).template segment<N>(1 + N)).transpose();
+      Pxz.col(b).noalias() = gw * (L * d);
+    }
+  }
+
+ private:
+  Eigen::Matrix<double, N, K, Eigen::RowMajor> X_;
+  Eigen::Matrix<double, Eigen::Dynamic, K, Eigen::RowMajor> Z_;
+  Eigen::Matrix<double, 1, K> wc_;
+};
 }  // namespace detail
 
 /// UKF with additive measurement noise: y = g(x) + n, n with the mean and covariance of each row's
@@ -50,11 +92,10 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
     meas.check_ready();
     const int m = meas.rows();
     tail_.resize(m);
-    Z_.setZero(m, kPoints);
+    mom_.resize(m);
     nmean_.setZero(m);
     R_.setZero(m, m);
     y_.setZero(m);
-    tmp_.setZero(m);
     los_.setZero(meas.num_anchors());
   }
 
@@ -78,31 +119,10 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
     const CholeskyStatus st = detail::factor_state_cov(this->P_, L, &res.jitter);
     res.status = st;
     if (st == CholeskyStatus::kFailed) Base::fail("Ukf.update: P");
-    sigma_points(this->x_, L, w_.gamma, X_);  // Huerta eq. (49)
-    meas_.predict_columns(X_, this->t_, Z_);
     auto& t = tail_;
-    detail::sigma_mean(meas_, Z_, w_, t.zhat, tmp_);  // eq. (51)
-    meas_.noise_moments(this->x_, s, nmean_, R_);
-    // Deviations, weighted covariances (eq. 51) plus the additive noise.
-    for (int j = 0; j < kPoints; ++j) {
-      Z_.col(j) -= t.zhat;
-      X_.col(j) -= this->x_;
-    }
-    meas_.wrap_residual_cols(Z_);
-    // Weighted covariances (eq. 51) plus the additive noise, as plain loops over the small sizes.
-    t.S = R_;
-    t.Pxz.setZero();
-    const Eigen::Index m = Z_.rows();
-    for (int j = 0; j < kPoints; ++j) {
-      const double wc = j == 0 ? w_.wc0 : w_.wi;
-      for (Eigen::Index b = 0; b < m; ++b) {
-        const double wz = wc * Z_(b, j);
-        for (Eigen::Index a = b; a < m; ++a) t.S(a, b) += Z_(a, j) * wz;
-        for (int c = 0; c < kDim; ++c) t.Pxz(c, b) += X_(c, j) * wz;
-      }
-    }
-    for (Eigen::Index b = 0; b < m; ++b)
-      for (Eigen::Index a = b + 1; a < m; ++a) t.S(b, a) = t.S(a, b);
+    mom_.compute(meas_, this->x_, L, w_, this->t_, t.zhat, t.S, t.Pxz);  // Huerta eqs. (49)-(51)
+    meas_.noise_moments(this->x_, s, nmean_, R_);                        // additive noise
+    t.S += R_;
     t.zhat += nmean_;
     if (!t.apply(
             y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
@@ -118,9 +138,9 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
   Meas meas_;
   SigmaScheme scheme_;
   SigmaWeights w_;
-  Mat<kDim, kPoints> X_;
-  MatX Z_, R_;
-  VecX nmean_, y_, tmp_;
+  detail::SigmaMoments<kDim> mom_;
+  MatX R_;
+  VecX nmean_, y_;
   VecXi los_;
   detail::UpdateTail<kDim> tail_;
 };
@@ -151,7 +171,6 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
     D_.setZero(m, kDim);
     u_.setZero(q_);
     y_.setZero(m);
-    tmp_.setZero(m);
     los_.setZero(meas.num_anchors());
   }
 
@@ -195,7 +214,7 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
       u_[k] = 0.0;
     }
     auto& t = tail_;
-    detail::sigma_mean(meas_, Z_, w_, t.zhat, tmp_);  // eq. (51)
+    detail::sigma_mean(meas_, Z_, w_, t.zhat);  // eq. (51)
     for (Eigen::Index j = 0; j < Z_.cols(); ++j) Z_.col(j) -= t.zhat;
     meas_.wrap_residual_cols(Z_);
     const int Laug = kDim + q_;
@@ -223,7 +242,7 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
   int q_ = 0;
   MatX Z_, Zw_;
   Eigen::Matrix<double, Eigen::Dynamic, kDim> D_;
-  VecX u_, y_, tmp_;
+  VecX u_, y_;
   VecXi los_;
   detail::UpdateTail<kDim> tail_;
 };

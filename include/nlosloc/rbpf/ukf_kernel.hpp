@@ -25,14 +25,12 @@ class UkfKernel {
   UkfKernel(const Meas& meas, const SigmaScheme& scheme) : meas_(&meas), w_(scheme.weights(N)) {
     const int m = meas.rows();
     tail_.resize(m);
-    Z_.setZero(m, K);
-    Zw_.setZero(m, K);
+    mom_.resize(m);
     S0_.setZero(m, m);
     Pxz0_.setZero(N, m);
     zhat0_.setZero(m);
     nmean_.setZero(m);
     R_.setZero(m, m);
-    tmp_.setZero(m);
   }
 
   /// Stage 1 (Table III, first three items): x_p = F x, P_p = F P F^T + Q (exact, linear motion), sigma
@@ -48,22 +46,7 @@ class UkfKernel {
     Mat<N, N> L;
     status_ = nlosloc::detail::factor_state_cov(Pp_, L, &jitter_);
     if (status_ == CholeskyStatus::kFailed) return status_;
-    sigma_points(xp_, L, w_.gamma, X_);  // Huerta eq. (49)
-    for (int j = 0; j < K; ++j) {
-      auto zj = Z_.col(j);
-      meas_->predict(X_.col(j), t, zj);
-    }
-    nlosloc::detail::sigma_mean(*meas_, Z_, w_, zhat0_, tmp_);  // eq. (51)
-    for (int j = 0; j < K; ++j) {
-      Z_.col(j) -= zhat0_;
-      X_.col(j) -= xp_;
-    }
-    meas_->wrap_residual_cols(Z_);
-    Zw_ = Z_;
-    Zw_.col(0) *= w_.wc0;
-    Zw_.rightCols(K - 1) *= w_.wi;
-    S0_.noalias() = Zw_.lazyProduct(Z_.transpose());  // eq. (51) without the noise
-    Pxz0_.noalias() = X_.lazyProduct(Zw_.transpose());
+    mom_.compute(*meas_, xp_, L, w_, t, zhat0_, S0_, Pxz0_);  // Huerta eqs. (49)-(51), no noise
     return status_;
   }
 
@@ -96,10 +79,10 @@ class UkfKernel {
   SigmaWeights w_;
   Vec<N> xp_;
   Mat<N, N> Pp_;
-  Mat<N, K> X_;
-  MatX Z_, Zw_, S0_, R_;
+  nlosloc::detail::SigmaMoments<N> mom_;
+  MatX S0_, R_;
   Eigen::Matrix<double, N, Eigen::Dynamic> Pxz0_;
-  VecX zhat0_, nmean_, tmp_;
+  VecX zhat0_, nmean_;
   nlosloc::detail::UpdateTail<N> tail_;
   CholeskyStatus status_ = CholeskyStatus::kOk;
   double jitter_ = 0.0;
