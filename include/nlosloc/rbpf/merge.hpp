@@ -74,18 +74,56 @@ int merge_greedy(const std::uint64_t* keys, double* logw, int n, Close&& close, 
   return absorbed;
 }
 
-/// Indices of the (at most) M particles with the largest finite log weights, written to `out` (cleared
-/// first), in decreasing weight order (prune step of Sec. V-A.3).
-inline void select_top(const double* logw, int n, int M, std::vector<int>& out) {
-  out.clear();
-  for (int i = 0; i < n; ++i)
-    if (logw[i] > -std::numeric_limits<double>::infinity()) out.push_back(i);
-  auto heavier = [&](int a, int b) { return logw[a] != logw[b] ? logw[a] > logw[b] : a < b; };
-  if (static_cast<int>(out.size()) > M) {
-    std::nth_element(out.begin(), out.begin() + M, out.end(), heavier);
-    out.resize(static_cast<std::size_t>(M));
+/// Incremental selection of the M heaviest of the offered indices, by log weight then lower index. A
+/// bounded heap keeps the M heaviest offered so far (its front is the lightest kept), so an offer costs
+/// one comparison unless the entry enters. The kept set is unique under that order, whatever the order
+/// of the offers. `out` is caller-owned storage (reserve M to avoid allocation).
+class TopSelector {
+ public:
+  TopSelector(const double* logw, int M, std::vector<int>& out) : logw_(logw), M_(M), out_(out) {
+    out_.clear();
   }
-  std::sort(out.begin(), out.end(), heavier);
+  bool heavier(int a, int b) const { return logw_[a] != logw_[b] ? logw_[a] > logw_[b] : a < b; }
+  bool full() const { return static_cast<int>(out_.size()) >= M_; }
+  /// Log weight of the lightest kept entry (valid when full()).
+  double threshold() const { return logw_[out_.front()]; }
+  void offer(int i) {
+    if (!(logw_[i] > -std::numeric_limits<double>::infinity()) || M_ <= 0) return;
+    auto cmp = [this](int a, int b) { return heavier(a, b); };
+    if (!full()) {
+      out_.push_back(i);
+      std::push_heap(out_.begin(), out_.end(), cmp);
+    } else if (heavier(i, out_.front())) {
+      std::pop_heap(out_.begin(), out_.end(), cmp);
+      out_.back() = i;
+      std::push_heap(out_.begin(), out_.end(), cmp);
+    }
+  }
+  /// Sorts the kept entries by decreasing weight.
+  void finish() {
+    std::sort(out_.begin(), out_.end(), [this](int a, int b) { return heavier(a, b); });
+  }
+
+ private:
+  const double* logw_;
+  int M_;
+  std::vector<int>& out_;
+};
+
+/// Writes to `out` the (at most) M entries idx(0..n-1) with the largest finite log weights, in decreasing
+/// weight order, ties by index (prune step of Sec. V-A.3).
+template <class IndexAt>
+void select_top_of(const double* logw, int n, IndexAt idx, int M, std::vector<int>& out) {
+  TopSelector top(logw, M, out);
+  for (int j = 0; j < n; ++j) top.offer(idx(j));
+  top.finish();
+}
+
+/// Indices of the (at most) M particles with the largest finite log weights, written to `out` (cleared
+/// first), in decreasing weight order, ties by index (prune step of Sec. V-A.3).
+inline void select_top(const double* logw, int n, int M, std::vector<int>& out) {
+  select_top_of(
+      logw, n, [](int j) { return j; }, M, out);
 }
 
 }  // namespace nlosloc::rbpf

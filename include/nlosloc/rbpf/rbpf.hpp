@@ -128,16 +128,24 @@ class Rbpf {
     sub_.reserve(cap);
     sub_key_.reserve(cap);
     sub_logw_.reserve(cap);
+    near_.assign(static_cast<std::size_t>(M), 0);
+    best_.assign(static_cast<std::size_t>(M), 0.0);
+    byx_.reserve(static_cast<std::size_t>(M));
+    apar_.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
     for (int t = 0; t < pool_->size(); ++t) {
       kernels_.emplace_back(std::make_unique<UkfKernel<Motion, Meas>>(meas_, options.scheme));
-      svec_.emplace_back(VecXi::Zero(B_));
+      auto w = std::make_unique<ThreadWork>();
+      w->order.reserve(static_cast<std::size_t>(M));
+      w->T.resize(nz_, nz_);
+      w->speeds.setZero(B_);
+      w->s.setZero(B_);
+      w->cand.reserve(static_cast<std::size_t>(M));
+      work_.push_back(std::move(w));
     }
     thread_fail_.assign(static_cast<std::size_t>(pool_->size()), 0);
     thread_status_.assign(static_cast<std::size_t>(pool_->size()), CholeskyStatus::kOk);
-    A_.resize(B_, nz_);
-    T_.resize(nz_, nz_);
     Lq_.resize(B_, nz_);
-    speeds_.setZero(B_);
+    cand_.reserve(cap + static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
     prob_.resize(B_, nz_);
     y_.resize(meas.rows());
     reset(initial, t0);
@@ -240,93 +248,173 @@ class Rbpf {
     return P.diagonal().segment(L.position, L.space_dim).sum();
   }
 
+  /// Per-thread scratch of the expansion and the UKF bank.
+  struct ThreadWork {
+    MatX T;
+    VecX speeds;
+    VecXi s;
+    std::vector<int> cand, order;  // top-M children of the parents without a neighbour; visiting order
+  };
+
   /// A(b, z) = log P(s_b,t = z | s_b,t-1) + log p(o_b | z) for parent p (eqs. 9, 25, 32).
-  void parent_factors(int p, long k) {
+  void parent_factors(int p, long k, ThreadWork& w, MatX& A) const {
     if (sight_.speed_dependent()) {
       const auto& L = meas_.layout();
       const State& x = mean_[static_cast<std::size_t>(p)];
       situation::transversal_speeds(x.segment(L.position, L.space_dim), x.segment(L.velocity, L.space_dim),
-                                    meas_.anchors(), speeds_);
+                                    meas_.anchors(), w.speeds);
     }
     const std::uint64_t key = key_[static_cast<std::size_t>(p)];
     std::uint64_t rest = key;
     for (int b = 0; b < B_; ++b) {
       const int prev = static_cast<int>(rest % static_cast<std::uint64_t>(nz_));
       rest /= static_cast<std::uint64_t>(nz_);
-      sight_.model(b).transition(k, speeds_(b), T_);
+      sight_.model(b).transition(k, w.speeds(b), w.T);
       for (int z = 0; z < nz_; ++z) {
         // First step: no previous situation, prior propagated once (pi T).
-        const double pr = first_ ? sight_.model(b).initial().dot(T_.col(z)) : T_(prev, z);
-        A_(b, z) = std::log(pr) + Lq_(b, z);
+        const double pr = first_ ? sight_.model(b).initial().dot(w.T.col(z)) : w.T(prev, z);
+        A(b, z) = std::log(pr) + Lq_(b, z);
       }
     }
   }
 
-  /// Children of every particle into off_* (eq. 23 with the weights of eq. 32 / first factors of eq. 25).
-  int expand(long k) {
-    int n = 0;
-    for (int p = 0; p < count_; ++p) {
-      parent_factors(p, k);
-      const double base = logw_[static_cast<std::size_t>(p)];
-      enumerate_offspring(A_, static_cast<std::uint64_t>(per_parent_), [&](std::uint64_t key, double s) {
-        const auto u = static_cast<std::size_t>(n++);
-        off_parent_[u] = p;
-        off_key_[u] = key;
-        off_logw_[u] = base + s;
-      });
+  /// Writes parent p's children into off_* at [p * per, (p + 1) * per) (eq. 23; weights of eq. 32 / first
+  /// factors of eq. 25) and offers each to `top` when given.
+  void emit_children(int p, TopSelector* top) {
+    const int per = per_parent_;
+    const double base = logw_[static_cast<std::size_t>(p)];
+    auto u = static_cast<std::size_t>(p) * static_cast<std::size_t>(per);
+    const std::size_t end = u + static_cast<std::size_t>(per);
+    enumerate_offspring(apar_[static_cast<std::size_t>(p)], static_cast<std::uint64_t>(per),
+                        [&](std::uint64_t key, double s) {
+                          off_parent_[u] = p;
+                          off_key_[u] = key;
+                          off_logw_[u] = base + s;
+                          if (top) top->offer(static_cast<int>(u));
+                          ++u;
+                        });
+    for (; u < end; ++u) {  // not reached: both enumerations emit exactly `per` children
+      off_parent_[u] = p;
+      off_key_[u] = 0;
+      off_logw_[u] = -std::numeric_limits<double>::infinity();
     }
-    return n;
+  }
+
+  /// Classical order: every child of every parent into off_*, parents split over the pool.
+  int expand_all(long k) {
+    pool_->parallel_for(count_, [&](int pb, int pe, int th) {
+      ThreadWork& w = *work_[static_cast<std::size_t>(th)];
+      for (int p = pb; p < pe; ++p) {
+        parent_factors(p, k, w, apar_[static_cast<std::size_t>(p)]);
+        emit_children(p, nullptr);
+      }
+    });
+    return count_ * per_parent_;
+  }
+
+  /// Reordered order: marks the parents with a neighbour within d_min (eq. 29 on the predicted means:
+  /// children keep their parent's kinetic belief, so two children are close exactly when they have the
+  /// same situation and their parents are close), writes every child of those (the merge needs them) and,
+  /// per thread, the M heaviest children of the other parents into w.cand. A parent whose best child
+  /// (its weight plus sum_b max_z A(b, z)) is lighter than the thread's M-th kept child cannot contribute
+  /// and is not enumerated; parents are visited by decreasing best child so this cut comes early.
+  int expand_reordered(long k, double d_min) {
+    const auto M = static_cast<std::size_t>(opt_.num_particles);
+    std::fill(near_.begin(), near_.end(), 0);
+    if (opt_.merge) mark_near_parents(d_min);
+    pool_->parallel_for(count_, [&](int pb, int pe, int th) {
+      ThreadWork& w = *work_[static_cast<std::size_t>(th)];
+      w.order.clear();
+      for (int p = pb; p < pe; ++p) {
+        MatX& A = apar_[static_cast<std::size_t>(p)];
+        parent_factors(p, k, w, A);
+        best_[static_cast<std::size_t>(p)] =
+            logw_[static_cast<std::size_t>(p)] + A.rowwise().maxCoeff().sum();
+        if (near_[static_cast<std::size_t>(p)])
+          emit_children(p, nullptr);
+        else
+          w.order.push_back(p);
+      }
+      std::sort(w.order.begin(), w.order.end(), [&](int a, int b) {
+        const double ba = best_[static_cast<std::size_t>(a)], bb = best_[static_cast<std::size_t>(b)];
+        return ba != bb ? ba > bb : a < b;
+      });
+      TopSelector top(off_logw_.data(), static_cast<int>(M), w.cand);
+      for (int p : w.order) {
+        // The margin covers the different summation order of the children's weights.
+        const double bp = best_[static_cast<std::size_t>(p)];
+        if (top.full() && bp + 1e-9 * (1.0 + std::abs(bp)) < top.threshold()) break;
+        emit_children(p, &top);
+      }
+    });
+    return count_ * per_parent_;
+  }
+
+  /// near_[p] = 1 when parent p's predicted mean F x_p is within d_min of another's (eq. 29), with the
+  /// pairs in adj_. Sorted sweep on the first state component (|dx_0| <= ||dx||), so only candidate pairs
+  /// are measured.
+  void mark_near_parents(double d_min) {
+    const auto M = static_cast<std::size_t>(opt_.num_particles);
+    const double d2 = d_min * d_min;
+    for (int p = 0; p < count_; ++p)
+      xpred_[static_cast<std::size_t>(p)].noalias() = motion_.F() * mean_[static_cast<std::size_t>(p)];
+    std::fill(adj_.begin(), adj_.end(), 0);
+    byx_.resize(static_cast<std::size_t>(count_));
+    for (int p = 0; p < count_; ++p) byx_[static_cast<std::size_t>(p)] = p;
+    std::sort(byx_.begin(), byx_.end(), [&](int a, int b) {
+      return xpred_[static_cast<std::size_t>(a)][0] < xpred_[static_cast<std::size_t>(b)][0];
+    });
+    for (std::size_t i = 0; i < byx_.size(); ++i) {
+      const auto a = static_cast<std::size_t>(byx_[i]);
+      for (std::size_t j = i + 1; j < byx_.size(); ++j) {
+        const auto b = static_cast<std::size_t>(byx_[j]);
+        if (xpred_[b][0] - xpred_[a][0] >= d_min) break;
+        if ((xpred_[a] - xpred_[b]).squaredNorm() < d2) {  // eq. (29)
+          adj_[a * M + b] = adj_[b * M + a] = 1;
+          near_[a] = near_[b] = 1;
+        }
+      }
+    }
   }
 
   void step_reordered(long k, double t, RbpfStepInfo& info) {
-    const int n = expand(k);
+    const int n = expand_reordered(k, info.merge_threshold);
     info.offspring = n;
-    if (opt_.merge) {
-      // Children keep the parent's kinetic belief, so two children are close (eq. 29) exactly when they
-      // have the same situation and their parents' predicted means are within d_min.
-      const double d = info.merge_threshold;
-      bool any = false;
-      const auto M = static_cast<std::size_t>(opt_.num_particles);
-      for (int p = 0; p < count_; ++p)
-        xpred_[static_cast<std::size_t>(p)].noalias() = motion_.F() * mean_[static_cast<std::size_t>(p)];
-      std::vector<char>& near = near_;
-      near.assign(static_cast<std::size_t>(count_), 0);
-      for (int p = 0; p < count_; ++p)
-        for (int q = p + 1; q < count_; ++q) {
-          const bool c =
-              (xpred_[static_cast<std::size_t>(p)] - xpred_[static_cast<std::size_t>(q)]).norm() < d;
-          adj_[static_cast<std::size_t>(p) * M + static_cast<std::size_t>(q)] = c;
-          adj_[static_cast<std::size_t>(q) * M + static_cast<std::size_t>(p)] = c;
-          if (c) {
-            any = true;
-            near[static_cast<std::size_t>(p)] = near[static_cast<std::size_t>(q)] = 1;
-          }
+    // Children of parents with a neighbour: merged (eqs. 29-30), then all candidates for the selection.
+    const auto M = static_cast<std::size_t>(opt_.num_particles);
+    const auto per = static_cast<std::size_t>(per_parent_);
+    sub_.clear();
+    sub_key_.clear();
+    sub_logw_.clear();
+    for (int p = 0; p < count_; ++p)
+      if (near_[static_cast<std::size_t>(p)])
+        for (std::size_t i = static_cast<std::size_t>(p) * per; i < (static_cast<std::size_t>(p) + 1) * per;
+             ++i) {
+          sub_.push_back(static_cast<int>(i));
+          sub_key_.push_back(off_key_[i]);
+          sub_logw_.push_back(off_logw_[i]);
         }
-      if (any) {
-        sub_.clear();
-        sub_key_.clear();
-        sub_logw_.clear();
-        for (int i = 0; i < n; ++i)
-          if (near[static_cast<std::size_t>(off_parent_[static_cast<std::size_t>(i)])]) {
-            sub_.push_back(i);
-            sub_key_.push_back(off_key_[static_cast<std::size_t>(i)]);
-            sub_logw_.push_back(off_logw_[static_cast<std::size_t>(i)]);
-          }
-        info.merged = merge_greedy(
-            sub_key_.data(), sub_logw_.data(), static_cast<int>(sub_.size()),
-            [&](int a, int b) {
-              const auto pa = static_cast<std::size_t>(
-                  off_parent_[static_cast<std::size_t>(sub_[static_cast<std::size_t>(a)])]);
-              const auto pb = static_cast<std::size_t>(
-                  off_parent_[static_cast<std::size_t>(sub_[static_cast<std::size_t>(b)])]);
-              return adj_[pa * M + pb] != 0;
-            },
-            mws_);
-        for (std::size_t j = 0; j < sub_.size(); ++j)
-          off_logw_[static_cast<std::size_t>(sub_[j])] = sub_logw_[j];
-      }
+    if (!sub_.empty()) {
+      info.merged = merge_greedy(
+          sub_key_.data(), sub_logw_.data(), static_cast<int>(sub_.size()),
+          [&](int a, int b) {
+            const auto pa = static_cast<std::size_t>(
+                off_parent_[static_cast<std::size_t>(sub_[static_cast<std::size_t>(a)])]);
+            const auto pb = static_cast<std::size_t>(
+                off_parent_[static_cast<std::size_t>(sub_[static_cast<std::size_t>(b)])]);
+            return adj_[pa * M + pb] != 0;
+          },
+          mws_);
+      for (std::size_t j = 0; j < sub_.size(); ++j)
+        off_logw_[static_cast<std::size_t>(sub_[j])] = sub_logw_[j];
     }
-    select_top(off_logw_.data(), n, opt_.num_particles, sel_);
+    // The global top M lies in the merged children and the threads' top-M lists of the others (whose
+    // weights the merge did not touch).
+    cand_.assign(sub_.begin(), sub_.end());
+    for (const auto& w : work_) cand_.insert(cand_.end(), w->cand.begin(), w->cand.end());
+    select_top_of(
+        off_logw_.data(), static_cast<int>(cand_.size()),
+        [this](int j) { return cand_[static_cast<std::size_t>(j)]; }, opt_.num_particles, sel_);
     // Group the survivors by parent so each parent's sigma points are computed once per thread.
     std::stable_sort(sel_.begin(), sel_.end(), [&](int a, int b) {
       return off_parent_[static_cast<std::size_t>(a)] < off_parent_[static_cast<std::size_t>(b)];
@@ -360,7 +448,7 @@ class Rbpf {
   }
 
   void step_classical(long k, double t, RbpfStepInfo& info) {
-    const int n = expand(k);
+    const int n = expand_all(k);
     info.offspring = n;
     info.ukf_runs = n;
     // Every child's UKF (IV.1), in parent order; eq. (25): add log p(y_t | s_1:t, y_1:t-1).
@@ -415,7 +503,7 @@ class Rbpf {
     std::fill(thread_status_.begin(), thread_status_.end(), CholeskyStatus::kOk);
     pool_->parallel_for(n, [&](int b, int e, int th) {
       auto& ker = *kernels_[static_cast<std::size_t>(th)];
-      VecXi& s = svec_[static_cast<std::size_t>(th)];
+      VecXi& s = work_[static_cast<std::size_t>(th)]->s;
       int last = -1;
       CholeskyStatus pst = CholeskyStatus::kOk;
       StepResult res;
@@ -506,17 +594,19 @@ class Rbpf {
   std::vector<Cov> off_cov_;
   // merge / select workspace
   std::vector<char> adj_, near_;
-  std::vector<int> sel_, sub_;
+  std::vector<int> sel_, sub_, cand_, byx_;
+  std::vector<double> best_;  // best child log weight per parent
+  std::vector<MatX> apar_;    // per-parent factors A (B x N_z)
   std::vector<std::uint64_t> sub_key_;
   std::vector<double> sub_logw_;
   MergeWorkspace mws_;
   // per-thread UKF workspaces
   std::vector<std::unique_ptr<UkfKernel<Motion, Meas>>> kernels_;
-  std::vector<VecXi> svec_;
+  std::vector<std::unique_ptr<ThreadWork>> work_;
   std::vector<int> thread_fail_;
   std::vector<CholeskyStatus> thread_status_;
-  MatX A_, T_, Lq_, prob_;
-  VecX speeds_, y_;
+  MatX Lq_, prob_;
+  VecX y_;
   State est_;
   Cov est_cov_;
 };
