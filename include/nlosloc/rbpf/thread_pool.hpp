@@ -3,6 +3,12 @@
 /// A fixed pool of worker threads created once (filters build it at construction, never per step).
 /// parallel_for(n, fn) splits [0, n) into one contiguous chunk per thread; the calling thread runs chunk 0,
 /// so a pool of size 1 has no worker and no synchronisation cost.
+///
+/// Hand-off: a filter step calls parallel_for a few times with short serial parts in between, so a
+/// condition-variable wake-up (tens of microseconds) would eat the gain of a second core. Workers and
+/// the caller therefore poll atomics for a short while (kSpin polls: pause hints, then yields) before
+/// blocking on the condition variables; an idle pool still sleeps.
+#include <atomic>
 #include <condition_variable>
 #include <exception>
 #include <functional>
@@ -26,8 +32,8 @@ class ThreadPool {
   ~ThreadPool() {
     {
       std::lock_guard<std::mutex> lk(m_);
-      stop_ = true;
-      ++gen_;
+      stop_.store(true, std::memory_order_release);
+      gen_.fetch_add(1, std::memory_order_release);
     }
     cv_.notify_all();
     for (auto& t : workers_) t.join();
@@ -51,9 +57,9 @@ class ThreadPool {
       std::lock_guard<std::mutex> lk(m_);
       job_ = &job;
       n_ = n;
-      pending_ = size_ - 1;
       error_ = nullptr;
-      ++gen_;
+      pending_.store(size_ - 1, std::memory_order_relaxed);
+      gen_.fetch_add(1, std::memory_order_release);
     }
     cv_.notify_all();
     std::exception_ptr mine;
@@ -62,14 +68,31 @@ class ThreadPool {
     } catch (...) {
       mine = std::current_exception();
     }
-    std::unique_lock<std::mutex> lk(m_);
-    done_cv_.wait(lk, [this] { return pending_ == 0; });
+    for (int i = 0; i < kSpin && pending_.load(std::memory_order_acquire) != 0; ++i) relax(i);
+    if (pending_.load(std::memory_order_acquire) != 0) {
+      std::unique_lock<std::mutex> lk(m_);
+      done_cv_.wait(lk, [this] { return pending_.load(std::memory_order_acquire) == 0; });
+    }
+    std::lock_guard<std::mutex> lk(m_);
     job_ = nullptr;
     if (mine) std::rethrow_exception(mine);
     if (error_) std::rethrow_exception(error_);
   }
 
  private:
+  static constexpr int kSpin = 2000;
+  /// One poll of a spin: a pause hint for the first polls, then yield (so an oversubscribed machine
+  /// runs the thread being waited for instead of the spinner).
+  static void relax(int i) {
+#if defined(__x86_64__) || defined(__i386__)
+    if (i < 128) {
+      __builtin_ia32_pause();
+      return;
+    }
+#endif
+    (void)i;
+    std::this_thread::yield();
+  }
   void run_chunk(int t) {
     const int b = static_cast<int>(static_cast<long long>(n_) * t / size_);
     const int e = static_cast<int>(static_cast<long long>(n_) * (t + 1) / size_);
@@ -78,22 +101,31 @@ class ThreadPool {
   void loop(int w) {
     unsigned long seen = 0;
     for (;;) {
-      {
-        std::unique_lock<std::mutex> lk(m_);
-        cv_.wait(lk, [&] { return gen_ != seen; });
-        seen = gen_;
-        if (stop_) return;
+      unsigned long g = gen_.load(std::memory_order_acquire);
+      for (int i = 0; i < kSpin && g == seen; ++i) {
+        relax(i);
+        g = gen_.load(std::memory_order_acquire);
       }
+      if (g == seen) {
+        std::unique_lock<std::mutex> lk(m_);
+        cv_.wait(lk, [&] { return gen_.load(std::memory_order_acquire) != seen; });
+        g = gen_.load(std::memory_order_acquire);
+      }
+      seen = g;
+      if (stop_.load(std::memory_order_acquire)) return;
       std::exception_ptr err;
       try {
         run_chunk(w);
       } catch (...) {
         err = std::current_exception();
       }
-      {
+      if (err) {
         std::lock_guard<std::mutex> lk(m_);
-        if (err && !error_) error_ = err;
-        if (--pending_ == 0) done_cv_.notify_one();
+        if (!error_) error_ = err;
+      }
+      if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+        std::lock_guard<std::mutex> lk(m_);  // pairs with the caller's predicate check under m_
+        done_cv_.notify_one();
       }
     }
   }
@@ -104,9 +136,9 @@ class ThreadPool {
   std::condition_variable cv_, done_cv_;
   std::function<void(int, int, int)>* job_ = nullptr;
   int n_ = 0;
-  int pending_ = 0;
-  unsigned long gen_ = 0;
-  bool stop_ = false;
+  std::atomic<int> pending_{0};
+  std::atomic<unsigned long> gen_{0};
+  std::atomic<bool> stop_{false};
   std::exception_ptr error_;
 };
 
