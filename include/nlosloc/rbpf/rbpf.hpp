@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -130,12 +131,14 @@ class Rbpf {
     sub_logw_.reserve(cap);
     near_.assign(static_cast<std::size_t>(M), 0);
     best_.assign(static_cast<std::size_t>(M), 0.0);
+    known_.assign(3 * static_cast<std::size_t>(M), 0.0);
+    ktmp_ = known_;
     byx_.reserve(static_cast<std::size_t>(M));
+    porder_.reserve(static_cast<std::size_t>(M));
     apar_.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
     for (int t = 0; t < pool_->size(); ++t) {
       kernels_.emplace_back(std::make_unique<UkfKernel<Motion, Meas>>(meas_, options.scheme));
       auto w = std::make_unique<ThreadWork>();
-      w->order.reserve(static_cast<std::size_t>(M));
       w->T.resize(nz_, nz_);
       w->speeds.setZero(B_);
       w->s.setZero(B_);
@@ -253,7 +256,7 @@ class Rbpf {
     MatX T;
     VecX speeds;
     VecXi s;
-    std::vector<int> cand, order;  // top-M children of the parents without a neighbour; visiting order
+    std::vector<int> cand;  // top-M children of this thread's share of the parents without a neighbour
   };
 
   /// A(b, z) = log P(s_b,t = z | s_b,t-1) + log p(o_b | z) for parent p (eqs. 9, 25, 32).
@@ -280,7 +283,7 @@ class Rbpf {
 
   /// Writes parent p's children into off_* at [p * per, (p + 1) * per) (eq. 23; weights of eq. 32 / first
   /// factors of eq. 25) and offers each to `top` when given.
-  void emit_children(int p, TopSelector* top) {
+  void emit_children(int p, TopSelector* top, double floor = -std::numeric_limits<double>::infinity()) {
     const int per = per_parent_;
     const double base = logw_[static_cast<std::size_t>(p)];
     auto u = static_cast<std::size_t>(p) * static_cast<std::size_t>(per);
@@ -290,7 +293,7 @@ class Rbpf {
                           off_parent_[u] = p;
                           off_key_[u] = key;
                           off_logw_[u] = base + s;
-                          if (top) top->offer(static_cast<int>(u));
+                          if (top && off_logw_[u] >= floor) top->offer(static_cast<int>(u));
                           ++u;
                         });
     for (; u < end; ++u) {  // not reached: both enumerations emit exactly `per` children
@@ -322,29 +325,78 @@ class Rbpf {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
     std::fill(near_.begin(), near_.end(), 0);
     if (opt_.merge) mark_near_parents(d_min);
+    // Factors, best child and the near parents' children, parents split over the pool.
     pool_->parallel_for(count_, [&](int pb, int pe, int th) {
       ThreadWork& w = *work_[static_cast<std::size_t>(th)];
-      w.order.clear();
       for (int p = pb; p < pe; ++p) {
         MatX& A = apar_[static_cast<std::size_t>(p)];
         parent_factors(p, k, w, A);
-        best_[static_cast<std::size_t>(p)] =
-            logw_[static_cast<std::size_t>(p)] + A.rowwise().maxCoeff().sum();
-        if (near_[static_cast<std::size_t>(p)])
-          emit_children(p, nullptr);
-        else
-          w.order.push_back(p);
+        const double bp = logw_[static_cast<std::size_t>(p)] + A.rowwise().maxCoeff().sum();
+        best_[static_cast<std::size_t>(p)] = bp;
+        // Three of p's children with known weights: the best, and the best with the anchor of the
+        // smallest (then second smallest) gap between its best and second-best condition switched.
+        double g1 = kInf, g2 = kInf;
+        if (nz_ > 1)
+          for (int b = 0; b < B_; ++b) {
+            double m1 = -kInf, m2 = -kInf;
+            for (int z = 0; z < nz_; ++z) {
+              const double a = A(b, z);
+              if (a > m1) {
+                m2 = m1;
+                m1 = a;
+              } else if (a > m2) {
+                m2 = a;
+              }
+            }
+            const double g = m1 - m2;
+            if (g < g1) {
+              g2 = g1;
+              g1 = g;
+            } else if (g < g2) {
+              g2 = g;
+            }
+          }
+        const auto u = 3 * static_cast<std::size_t>(p);
+        known_[u] = near_[static_cast<std::size_t>(p)] ? -kInf : bp;
+        known_[u + 1] = near_[static_cast<std::size_t>(p)] ? -kInf : bp - g1;
+        known_[u + 2] = near_[static_cast<std::size_t>(p)] ? -kInf : bp - g2;
+        if (near_[static_cast<std::size_t>(p)]) emit_children(p, nullptr);
       }
-      std::sort(w.order.begin(), w.order.end(), [&](int a, int b) {
-        const double ba = best_[static_cast<std::size_t>(a)], bb = best_[static_cast<std::size_t>(b)];
-        return ba != bb ? ba > bb : a < b;
-      });
-      TopSelector top(off_logw_.data(), static_cast<int>(M), w.cand);
-      for (int p : w.order) {
-        // The margin covers the different summation order of the children's weights.
-        const double bp = best_[static_cast<std::size_t>(p)];
-        if (top.full() && bp + 1e-9 * (1.0 + std::abs(bp)) < top.threshold()) break;
-        emit_children(p, &top);
+    });
+    // tau: the M-th largest of those known weights (of distinct children of parents without a
+    // neighbour) is a lower bound of the M-th heaviest child among those parents; lighter children and
+    // parents whose best child is lighter are skipped. Slightly lowered for the summation order.
+    double tau = -kInf;
+    const auto nk = 3 * static_cast<std::size_t>(count_);
+    std::copy(known_.begin(), known_.begin() + static_cast<std::ptrdiff_t>(nk), ktmp_.begin());
+    if (nk >= M) {
+      std::nth_element(ktmp_.begin(), ktmp_.begin() + static_cast<std::ptrdiff_t>(M - 1),
+                       ktmp_.begin() + static_cast<std::ptrdiff_t>(nk), std::greater<double>());
+      const double v = ktmp_[M - 1];
+      if (std::isfinite(v)) tau = v - 1e-9 * (1.0 + std::abs(v));
+    }
+    // The other parents by decreasing best child, dealt round-robin to the threads so each gets an even
+    // share of the parents that survive the cut below.
+    porder_.clear();
+    for (int p = 0; p < count_; ++p)
+      if (!near_[static_cast<std::size_t>(p)]) porder_.push_back(p);
+    std::sort(porder_.begin(), porder_.end(), [&](int a, int b) {
+      const double ba = best_[static_cast<std::size_t>(a)], bb = best_[static_cast<std::size_t>(b)];
+      return ba != bb ? ba > bb : a < b;
+    });
+    const int T = pool_->size();
+    pool_->parallel_for(T, [&](int tb, int te, int) {
+      for (int th = tb; th < te; ++th) {
+        TopSelector top(off_logw_.data(), static_cast<int>(M), work_[static_cast<std::size_t>(th)]->cand);
+        for (std::size_t j = static_cast<std::size_t>(th); j < porder_.size();
+             j += static_cast<std::size_t>(T)) {
+          const int p = porder_[j];
+          // The margin covers the different summation order of the children's weights.
+          const double bp = best_[static_cast<std::size_t>(p)];
+          if (bp + 1e-9 * (1.0 + std::abs(bp)) < tau) break;
+          if (top.full() && bp + 1e-9 * (1.0 + std::abs(bp)) < top.threshold()) break;
+          emit_children(p, &top, tau);
+        }
       }
     });
     return count_ * per_parent_;
@@ -594,9 +646,11 @@ class Rbpf {
   std::vector<Cov> off_cov_;
   // merge / select workspace
   std::vector<char> adj_, near_;
-  std::vector<int> sel_, sub_, cand_, byx_;
-  std::vector<double> best_;  // best child log weight per parent
-  std::vector<MatX> apar_;    // per-parent factors A (B x N_z)
+  std::vector<int> sel_, sub_, cand_, byx_, porder_;
+  std::vector<double> best_;          // best child log weight per parent
+  std::vector<double> known_, ktmp_;  // three known child weights per parent, and scratch
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<MatX> apar_;  // per-parent factors A (B x N_z)
   std::vector<std::uint64_t> sub_key_;
   std::vector<double> sub_logw_;
   MergeWorkspace mws_;
