@@ -4,9 +4,15 @@
 /// splitmix64. Every draw of a scenario goes through an Rng, so a run is reproducible bit for bit from
 /// (seed, stream) on the same build. Satisfies UniformRandomBitGenerator, so std and Boost distributions
 /// accept it, but normal() and uniform() here are our own and do not depend on the standard library.
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#define NLOSLOC_RNG_SSE2 1
+#endif
 
 namespace nlosloc {
 
@@ -62,6 +68,25 @@ class Rng {
   /// Normal with mean mu and standard deviation sigma.
   double normal(double mu, double sigma) { return mu + sigma * normal(); }
 
+  /// Advances the generator by 2^128 draws (xoshiro256 jump polynomial, Blackman and Vigna 2019): 2^128
+  /// non-overlapping subsequences for parallel use. Clears the kept normal variate.
+  void jump() {
+    static constexpr std::uint64_t kJump[4] = {0x180ec6d33cfd0abaULL, 0xd5a61266f0c9392cULL,
+                                               0xa9582618e03fc9aaULL, 0x39abdc4529b1661cULL};
+    std::uint64_t t[4] = {0, 0, 0, 0};
+    for (std::uint64_t j : kJump)
+      for (int b = 0; b < 64; ++b) {
+        if (j & (std::uint64_t{1} << b))
+          for (int w = 0; w < 4; ++w) t[w] ^= s_[w];
+        (*this)();
+      }
+    for (int w = 0; w < 4; ++w) s_[w] = t[w];
+    has_spare_ = false;
+  }
+
+  /// The four words of the xoshiro256 state (for BatchRng).
+  std::array<std::uint64_t, 4> state() const { return {s_[0], s_[1], s_[2], s_[3]}; }
+
   /// Uniform integer in [0, n), n > 0 (Lemire's unbiased multiply-shift).
   std::uint64_t below(std::uint64_t n) {
     __uint128_t m = static_cast<__uint128_t>((*this)()) * n;
@@ -87,6 +112,156 @@ class Rng {
   std::uint64_t s_[4];
   double spare_ = 0.0;
   bool has_spare_ = false;
+};
+
+namespace detail {
+/// Ziggurat tables of the standard normal (Marsaglia and Tsang 2000, 256 layers of area V): x[0] = V / f(R),
+/// x[1] = R, x[i+1] = f^{-1}(V / x[i] + f(x[i])), x[256] = 0; f(x) = exp(-x^2 / 2) and fx[i] = f(x[i]).
+struct ZigguratNormal {
+  static constexpr double kR = 3.6541528853610088;  // start of the tail
+  static constexpr double kV = 4.92867323399e-3;    // area of every layer (tail included in layer 0)
+  double x[257], fx[257];
+  ZigguratNormal() {
+    x[0] = kV / std::exp(-0.5 * kR * kR);
+    x[1] = kR;
+    for (int i = 1; i < 256; ++i) {
+      const double a = kV / x[i] + std::exp(-0.5 * x[i] * x[i]);
+      x[i + 1] = a < 1.0 ? std::sqrt(-2.0 * std::log(a)) : 0.0;
+    }
+    x[256] = 0.0;
+    for (int i = 0; i <= 256; ++i) fx[i] = std::exp(-0.5 * x[i] * x[i]);
+  }
+  static const ZigguratNormal& get() {
+    static const ZigguratNormal z;
+    return z;
+  }
+};
+}  // namespace detail
+
+/// Bulk generator for hot loops (the particle filter): kLanes xoshiro256++ generators run in lockstep
+/// (SSE2 when available, otherwise the same arithmetic in scalar code: identical outputs), lane l being the
+/// parent Rng jumped l + 1 times by 2^128, so the lanes never overlap the parent or each other. Its output
+/// is a different sequence from the parent's (the parent is not advanced). Copyable.
+class BatchRng {
+ public:
+  static constexpr int kLanes = 4;
+  static constexpr int kBuffer = 64;  ///< 64-bit words drawn per refill of the internal buffer
+
+  BatchRng() : BatchRng(Rng()) {}
+  explicit BatchRng(Rng parent) {
+    for (int l = 0; l < kLanes; ++l) {
+      parent.jump();
+      const auto st = parent.state();
+      for (int w = 0; w < 4; ++w) s_[w][l] = st[static_cast<std::size_t>(w)];
+    }
+  }
+
+  /// Writes 4 * n_quads 64-bit words: word 4 j + l is the j-th output of lane l.
+  void fill_bits(std::uint64_t* out, int n_quads) {
+#ifdef NLOSLOC_RNG_SSE2
+    __m128i s[4][2];
+    for (int w = 0; w < 4; ++w)
+      for (int h = 0; h < 2; ++h) s[w][h] = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&s_[w][2 * h]));
+    for (int j = 0; j < n_quads; ++j)
+      for (int h = 0; h < 2; ++h) {
+        const __m128i a = _mm_add_epi64(s[0][h], s[3][h]);
+        const __m128i r = _mm_add_epi64(_mm_or_si128(_mm_slli_epi64(a, 23), _mm_srli_epi64(a, 41)), s[0][h]);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 4 * j + 2 * h), r);
+        const __m128i t = _mm_slli_epi64(s[1][h], 17);
+        s[2][h] = _mm_xor_si128(s[2][h], s[0][h]);
+        s[3][h] = _mm_xor_si128(s[3][h], s[1][h]);
+        s[1][h] = _mm_xor_si128(s[1][h], s[2][h]);
+        s[0][h] = _mm_xor_si128(s[0][h], s[3][h]);
+        s[2][h] = _mm_xor_si128(s[2][h], t);
+        s[3][h] = _mm_or_si128(_mm_slli_epi64(s[3][h], 45), _mm_srli_epi64(s[3][h], 19));
+      }
+    for (int w = 0; w < 4; ++w)
+      for (int h = 0; h < 2; ++h) _mm_storeu_si128(reinterpret_cast<__m128i*>(&s_[w][2 * h]), s[w][h]);
+#else
+    for (int j = 0; j < n_quads; ++j)
+      for (int l = 0; l < kLanes; ++l) {
+        const std::uint64_t a = s_[0][l] + s_[3][l];
+        out[4 * j + l] = ((a << 23) | (a >> 41)) + s_[0][l];
+        const std::uint64_t t = s_[1][l] << 17;
+        s_[2][l] ^= s_[0][l];
+        s_[3][l] ^= s_[1][l];
+        s_[1][l] ^= s_[2][l];
+        s_[0][l] ^= s_[3][l];
+        s_[2][l] ^= t;
+        s_[3][l] = (s_[3][l] << 45) | (s_[3][l] >> 19);
+      }
+#endif
+  }
+
+  /// n uniforms in the open interval (0, 1) with 52 random bits each ((k + 1/2) 2^-52), n a multiple of 4.
+  void fill_uniform(double* out, int n) {
+    std::uint64_t b[kBuffer];
+    for (int k = 0; k < n; k += kBuffer) {
+      const int m = n - k < kBuffer ? n - k : kBuffer;
+      fill_bits(b, m / kLanes);
+      to_uniform(b, out + k, m);
+    }
+  }
+
+  /// One 64-bit word (from the internal buffer, refilled kBuffer words at a time).
+  std::uint64_t next() {
+    if (pos_ == kBuffer) {
+      fill_bits(buf_, kBuffer / kLanes);
+      pos_ = 0;
+    }
+    return buf_[pos_++];
+  }
+  /// Uniform in (0, 1) with 53 random bits, as Rng::uniform().
+  double uniform() { return (static_cast<double>(next() >> 11) + 0.5) * 0x1.0p-53; }
+
+  /// n standard normal variates by the ziggurat method (Marsaglia and Tsang 2000, 256 layers): exact
+  /// sampling of N(0, 1) (rectangles accepted directly, wedges by rejection, the tail by Marsaglia's 1964
+  /// method); about 1.01 words per variate.
+  void fill_normal(double* out, int n) {
+    const auto& z = detail::ZigguratNormal::get();
+    for (int k = 0; k < n; ++k) out[k] = normal(z);
+  }
+
+ private:
+  double normal(const detail::ZigguratNormal& z) {
+    for (;;) {
+      const std::uint64_t b = next();
+      const int i = static_cast<int>(b & 0xff);                                 // layer from the low 8 bits
+      const double u = 2.0 * (static_cast<double>(b >> 12) * 0x1.0p-52) - 1.0;  // [-1, 1), other 52 bits
+      const double x = u * z.x[i];
+      if (std::abs(x) < z.x[i + 1]) return x;  // inside the layer's rectangle
+      if (i == 0) {                            // base layer beyond R: the tail (Marsaglia 1964)
+        double xt, yt;
+        do {
+          xt = -std::log(uniform()) / detail::ZigguratNormal::kR;
+          yt = -std::log(uniform());
+        } while (2.0 * yt < xt * xt);
+        return u < 0.0 ? -(detail::ZigguratNormal::kR + xt) : detail::ZigguratNormal::kR + xt;
+      }
+      if (z.fx[i + 1] + (z.fx[i] - z.fx[i + 1]) * uniform() < std::exp(-0.5 * x * x)) return x;  // wedge
+    }
+  }
+  static void to_uniform(const std::uint64_t* in, double* out, int n) {
+#ifdef NLOSLOC_RNG_SSE2
+    const __m128i one = _mm_set1_epi64x(0x3FF0000000000000LL);
+    const __m128d off = _mm_set1_pd(1.0 - 0x1.0p-53);
+    for (int k = 0; k + 1 < n; k += 2) {
+      const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(in + k));
+      const __m128d v = _mm_castsi128_pd(_mm_or_si128(_mm_srli_epi64(b, 12), one));  // 1 + k 2^-52
+      _mm_storeu_pd(out + k, _mm_sub_pd(v, off));                                    // (k + 1/2) 2^-52
+    }
+#else
+    for (int k = 0; k < n; ++k) {
+      const std::uint64_t b = (in[k] >> 12) | 0x3FF0000000000000ULL;
+      double v;
+      std::memcpy(&v, &b, sizeof v);
+      out[k] = v - (1.0 - 0x1.0p-53);
+    }
+#endif
+  }
+  std::uint64_t s_[4][kLanes];
+  std::uint64_t buf_[kBuffer] = {};
+  int pos_ = kBuffer;
 };
 
 }  // namespace nlosloc

@@ -7,8 +7,15 @@
 /// merge-and-select adapted to sampled particles.
 ///
 /// Layout: structure of arrays (state component d of particle i at x[d * M + i], anchor b's condition at
-/// s[b * M + i]), double buffers for resampling, all allocated at construction: step() does not allocate
-/// (except the optional merge, which sorts in preallocated buffers).
+/// s[b * M + i]), double buffers (the moved states and the resampled set are written to the second one),
+/// all allocated at construction: step() does not allocate (except the optional merge, which sorts in
+/// preallocated buffers).
+///
+/// Speed (issue #3): one pass over the particles per step, in blocks on the thread pool, with bulk random
+/// numbers (BatchRng), a square-root- and division-free sight switching test, SIMD packets (Eigen's
+/// packet functions) for ranges, log densities, log and exp, and the weighted mean, situation
+/// probabilities and ESS accumulated in the same pass; the covariance is computed on request (or before a
+/// resampling) and the normalisation of the log weights is deferred to the next pass.
 ///
 /// Merge-select for sampled particles (the paper applies the RBPF's rule, eqs. 29-30, to its 1e6-particle
 /// PF without details): particles are bucketed by situation vector and by the cell floor(x / d_min) of the
@@ -22,9 +29,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -78,13 +87,28 @@ void systematic_resample(const W& w, int n, int M, double u0, int* out) {
   }
 }
 
+namespace detail {
+/// SIMD packet of doubles of the build (Eigen's Packet2d with SSE2; plain double when Eigen does not
+/// vectorise): the joint PF's inner loops are written once on Eigen's packet functions and run on packets,
+/// with the same template on double for the tails.
+using PfPacket = Eigen::internal::packet_traits<double>::type;
+inline constexpr int kPfLanes = static_cast<int>(sizeof(PfPacket) / sizeof(double));
+}  // namespace detail
+
 /// Bootstrap particle filter over (x, s).
+///
+/// Step structure (one pass over memory, in blocks of kBlock particles per thread): draw the block's
+/// uniforms (one per anchor and particle) and normals (rank Q per particle) in bulk (BatchRng), move the
+/// sight chains, move the states, weight, and accumulate the weighted moments with a running maximum of the
+/// log weights (so the weights are exponentiated once, in the same pass). The normalisation of the log
+/// weights is deferred to the next step's pass (log_weights() applies it on demand).
 template <class Motion, class Meas = MeasurementStack>
 class ParticleFilter {
  public:
   static constexpr int N = Motion::kDim;
   using State = Vec<N>;
   using Cov = Mat<N, N>;
+  static constexpr int kBlock = 128;  ///< particles per block of the inner loops (multiple of 4)
 
   ParticleFilter(const Motion& motion, const Meas& meas, situation::SightProcess sight,
                  situation::QualityModel quality, const Gaussian<N>& initial, const PfOptions& options = {},
@@ -140,11 +164,41 @@ class ParticleFilter {
         G.col(G.cols() - 1) = es.eigenvectors().col(j) * std::sqrt(es.eigenvalues()(j));
       }
     G_ = G;
+    nq_ = static_cast<int>(G_.cols());
+    // x_t = F x_{t-1} + G n (eq. 4) as the non-zero entries of F and G, row by row (zeros skipped exactly).
+    const auto& F = motion.F();
+    for (int r = 0; r < N; ++r) {
+      fbeg_[r] = static_cast<int>(fent_.size());
+      for (int c = 0; c < N; ++c)
+        if (F(r, c) != 0.0) fent_.push_back({c, F(r, c)});
+      gbeg_[r] = static_cast<int>(gent_.size());
+      for (int q = 0; q < nq_; ++q)
+        if (G_(r, q) != 0.0) gent_.push_back({q, G_(r, q)});
+    }
+    fbeg_[N] = static_cast<int>(fent_.size());
+    gbeg_[N] = static_cast<int>(gent_.size());
     for (int t = 0; t < pool_->size(); ++t) {
       rng_.emplace_back(options.seed, static_cast<std::uint64_t>(t));
-      z_.emplace_back(VecX::Zero(meas.rows()));
+      brng_.emplace_back(rng_.back());
+      work_.emplace_back();
+      ThreadWork& w = work_.back();
+      w.u.resize(static_cast<std::size_t>(B_) * kBlock);
+      w.z.resize(static_cast<std::size_t>(std::max(nq_, 1)) * kBlock);
+      w.sd.resize(static_cast<std::size_t>(B_) * kBlock);
+      w.zrow = VecX::Zero(meas.rows());
+      w.T.resize(nz_, nz_);
     }
-    thread_sum_.assign(static_cast<std::size_t>(pool_->size()), 0.0);
+    stride_ = 3 + N + B_ * nz_;
+    cparts_.resize(static_cast<std::size_t>(pool_->size() * (1 + N + kNT)));
+    for (ThreadWork& w : work_) {
+      w.lw.resize(kBlock);
+      w.pr.resize(kBlock);
+      w.sacc.resize(static_cast<std::size_t>(stride_));
+    }
+    parts_.resize(static_cast<std::size_t>(pool_->size() * stride_));
+    csum_.assign(static_cast<std::size_t>(pool_->size()), 0.0);
+    cbeg_.assign(static_cast<std::size_t>(pool_->size()), 0);
+    cend_.assign(static_cast<std::size_t>(pool_->size()), 0);
     // Rows whose every condition is Normal or Rayleigh get a closed-form log density: the logs of the
     // Rayleigh residuals are summed as the log of one product per particle (one log instead of one per row).
     fastlik_ = true;
@@ -164,8 +218,17 @@ class ParticleFilter {
           fastlik_ = false;
         }
       }
+    // Vectorised weights: two conditions and range rows only (TOA/RTOA, Table I).
+    fastrows_ = fastlik_ && nz_ == 2 && B_ <= 64;
+    for (int i = 0; i < meas.rows(); ++i) {
+      const RowKind k = meas.row(i).kind;
+      fastrows_ = fastrows_ && (k == RowKind::kToa || k == RowKind::kRtoa) && meas.row(i).anchor >= 0;
+    }
+    rows_.resize(static_cast<std::size_t>(meas.rows()));
+    lonely_.resize(static_cast<std::size_t>(B_));
     fast2d_ = meas.layout().space_dim == 2 && nz_ == 2 && meas.layout().velocity >= 0;
     for (int b = 0; b < B_; ++b) fast2d_ = fast2d_ && sight_.model(b).speed_dependent();
+    if (fast2d_) setup_switch_tests();
     Lq_.resize(B_, nz_);
     cum_.resize(static_cast<std::size_t>(B_) * static_cast<std::size_t>(nz_ * nz_));
     T_.resize(nz_, nz_);
@@ -198,7 +261,11 @@ class ParticleFilter {
     }
     for (int t = 1; t < pool_->size(); ++t)
       rng_[static_cast<std::size_t>(t)].reseed(opt_.seed, static_cast<std::uint64_t>(t));
+    // bulk generators: jumps of each thread's Rng (never overlap it: rng_[0] also draws the resampling u0)
+    for (int t = 0; t < pool_->size(); ++t)
+      brng_[static_cast<std::size_t>(t)] = BatchRng(rng_[static_cast<std::size_t>(t)]);
     logw_.setConstant(-std::log(static_cast<double>(M_)));
+    shift_ = 0.0;
     t_ = t0;
     k_ = 0;
     summarise();
@@ -223,27 +290,31 @@ class ParticleFilter {
         }
       }
     }
-    std::fill(thread_sum_.begin(), thread_sum_.end(), 0.0);
+    if (fastrows_) prepare_rows();
+    centre_ = est_;
+    prior_shift_ = shift_;
+    for (int th = 0; th < pool_->size();
+         ++th)  // rows of threads with an empty chunk (M < threads) stay empty
+      init_acc(&parts_[static_cast<std::size_t>(th * stride_)], 1);
     pool_->parallel_for(M_, [&](int b0, int e0, int th) { propagate_weight(b0, e0, th, k, t, speed); });
+    std::swap(x_, nx_);  // the pass wrote the moved states into nx_
     PfStepInfo info;
     // Incremental weights were added to the normalised log weights: their log-sum-exp is log p(y, o | past).
-    const double z = log_sum_exp(logw_);
+    const double z = reduce(info.ess);
     if (!std::isfinite(z))
       nlosloc::detail::throw_numerical_error("ParticleFilter.step: every particle has zero likelihood");
-    logw_.array() -= z;
     info.log_likelihood = z;
+    shift_ = z;  // logw_ - shift_ are the normalised log weights
     t_ = t;
     k_ = k;
-    summarise(true);                    // also sets w_ (normalised weights)
-    info.ess = 1.0 / w_.squaredNorm();  // estimate before selection (lower variance)
     if (opt_.resampling == PfResampling::kMergeSelect) {
+      normalise_log_weights();
       info.merged = merge_cells();
-      w_ = logw_.array().exp();
-      w_ /= w_.sum();
-      resample();
+      resample(log_sum_exp(logw_));
       info.resampled = true;
     } else if (info.ess < opt_.ess_threshold * static_cast<double>(M_)) {
-      resample();
+      compute_covariance();  // of the weighted set, before selection
+      resample(shift_);
       info.resampled = true;
     }
     return info;
@@ -252,8 +323,12 @@ class ParticleFilter {
   int num_particles() const { return M_; }
   /// Weighted mean of the particles (after the last weighting).
   const State& estimate() const { return est_; }
-  const Cov& covariance() const { return est_cov_; }
-  Gaussian<N> belief() const { return {est_, est_cov_}; }
+  /// Weighted covariance of the particles after the last weighting (computed on first request: one pass).
+  const Cov& covariance() const {
+    if (!cov_ready_) compute_covariance();
+    return est_cov_;
+  }
+  Gaussian<N> belief() const { return {est_, covariance()}; }
   /// P(s_b = z), B x N_z.
   const MatX& situation_probabilities() const { return prob_; }
   VecXi sight_estimate() const {
@@ -269,11 +344,49 @@ class ParticleFilter {
       for (int i = 0; i < M_; ++i) s(b, i) = s_[sidx(b, i)];
     return s;
   }
-  const VecX& log_weights() const { return logw_; }
+  /// Normalised log weights (applies the deferred normalisation of the last step, O(M) once).
+  const VecX& log_weights() const {
+    normalise_log_weights();
+    return logw_;
+  }
   double time() const { return t_; }
   const PfOptions& options() const { return opt_; }
 
  private:
+  using Packet = detail::PfPacket;
+  static constexpr int kLanes = detail::kPfLanes;
+  static constexpr int kNT = N * (N + 1) / 2;
+
+  struct Entry {
+    int col;
+    double v;
+  };
+  struct RowLik {
+    bool rayleigh;
+    double mu, inv2, c;
+  };
+  /// One observed range row of this step: noise parameters per condition, Lq folded into c.
+  /// Constants are stored broadcast to a packet (k[c][lane]) so the inner loop loads them directly.
+  struct FastRow {
+    enum { kY, kMu0, kMu1, kInv0, kInv1, kC0, kC1, kRay0, kRay1, kQ0, kQ1, kQ2, kCount };
+    int anchor, rtoa;
+    alignas(16) double k[kCount][detail::kPfLanes];  // kRay*: all-ones bits when condition z is Rayleigh
+    void set(int c, double v) {
+      for (double& e : k[c]) e = v;
+    }
+  };
+  /// Coefficients of the switching probability p = (w A + C) / (w S + P) per current condition (dt in A, S).
+  struct SwitchCoef {
+    double A[2], S[2], P[2], C[2];
+  };
+  struct ThreadWork {
+    std::vector<double> u, z, sd;  // block buffers: uniforms (B x block), normals (rank Q x block), s as 0/1
+    std::vector<double> lw, pr;    // block buffers of the fast weights: log density sums, Rayleigh products
+    std::vector<double> sacc;      // accumulators of the scalar tails and the generic path
+    VecX zrow;
+    MatX T;
+  };
+
   std::size_t idx(int d, int i) const {
     return static_cast<std::size_t>(d) * static_cast<std::size_t>(M_) + static_cast<std::size_t>(i);
   }
@@ -286,93 +399,524 @@ class ParticleFilter {
            static_cast<std::size_t>(j);
   }
 
-  void propagate_weight(int b0, int e0, int th, long k, double t, bool speed) {
-    Rng& rng = rng_[static_cast<std::size_t>(th)];
-    VecX& z = z_[static_cast<std::size_t>(th)];
-    const auto& F = motion_.F();
-    const int r = static_cast<int>(G_.cols());
-    const auto& L = meas_.layout();
-    const int m = meas_.rows();
-    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, N, 1> u(r);
-    Mat<2, 2> T2;
-    MatX Tb;
-    for (int i = b0; i < e0; ++i) {
-      State x;
-      for (int d = 0; d < N; ++d) x(d) = x_[idx(d, i)];
-      // Situation transition from the previous state's transversal speed (eqs. 9-10, 15-18 / 16).
-      for (int b = 0; b < B_; ++b) {
-        std::uint8_t& sb = s_[sidx(b, i)];
-        if (fast2d_) {
-          // 2-D, two conditions: eq. (10) as |d x v| / |d| and the switching probability in closed form
-          const double dx = x(L.position) - meas_.anchors()(b, 0),
-                       dy = x(L.position + 1) - meas_.anchors()(b, 1);
-          const double vx = x(L.velocity), vy = x(L.velocity + 1);
-          const double d2 = dx * dx + dy * dy;
-          const double w =
-              d2 > 0.0 ? std::abs(dx * vy - dy * vx) / std::sqrt(d2) : std::sqrt(vx * vx + vy * vy);
-          if (rng.uniform() < situation::speed_switch_probability(sight_.model(b), sb, w))
-            sb = static_cast<std::uint8_t>(1 - sb);
-        } else if (speed) {
-          const double w = situation::transversal_speed(x.segment(L.position, L.space_dim),
-                                                        x.segment(L.velocity, L.space_dim),
-                                                        meas_.anchors().row(b).transpose());
-          sb = static_cast<std::uint8_t>(sight_.model(b).sample_next(sb, k, w, rng));
-        } else {
-          const double uu = rng.uniform();
-          int j = 0;
-          while (j < nz_ - 1 && uu >= cum_[cidx(b, sb, j)]) ++j;
-          sb = static_cast<std::uint8_t>(j);
+  /// Speed-dependent two-state chains in 2-D: the switching probability of Huerta eqs. (15), (17), (18) is
+  /// (w A + C) / (w S + P) with w = |d x v| / |d| (eq. 10), so u < p is tested without a square root or a
+  /// division as c^2 g|g| > h|h| d^2 (c = d x v, g = A - u S, h = u P - C; x|x| is increasing). As w <= |v|,
+  /// p <= pbar(|v|) = max over [0, |v|] of (w A_max + C_max) / (w S_min + P_min) (a Moebius map: an end
+  /// point), so a particle whose uniforms all exceed pbar keeps its conditions without the per-anchor test.
+  void setup_switch_tests() {
+    coef_.resize(static_cast<std::size_t>(B_));
+    amax_ = cmax_ = 0.0;
+    smin_ = pmin_ = std::numeric_limits<double>::infinity();
+    for (int b = 0; b < B_; ++b) {
+      const situation::SightModel& m = sight_.model(b);
+      const double ll = m.mean_los(), ln = m.mean_nlos(), dt = m.dt();
+      SwitchCoef& c = coef_[static_cast<std::size_t>(b)];
+      for (int s = 0; s < 2; ++s) {
+        const double cur = s == 0 ? ll : ln, other = s == 0 ? ln : ll;
+        switch (m.form()) {
+          case situation::SpeedModel::kSingle:  // eq. (15): a / (a + L_cur), a = w dt
+            c.A[s] = dt, c.S[s] = dt, c.P[s] = cur, c.C[s] = 0.0;
+            break;
+          case situation::SpeedModel::kMemoryless:  // eq. (18): L_other / (L_L + L_N)
+            c.A[s] = 0.0, c.S[s] = 0.0, c.P[s] = 1.0, c.C[s] = other / (ll + ln);
+            break;
+          default:  // eq. (17): a L_other / (a (L_L + L_N) + L_L L_N)
+            c.A[s] = dt * other, c.S[s] = dt * (ll + ln), c.P[s] = ll * ln, c.C[s] = 0.0;
+            break;
         }
+        amax_ = std::max(amax_, c.A[s]);
+        cmax_ = std::max(cmax_, c.C[s]);
+        smin_ = std::min(smin_, c.S[s]);
+        pmin_ = std::min(pmin_, c.P[s]);
       }
-      // x_t = F x_{t-1} + u_t (eq. 4), u_t = G n with n standard normal of size rank(Q).
-      for (int j = 0; j < r; ++j) u(j) = rng.normal();
-      State xn = F * x;
-      xn.noalias() += G_ * u;
-      for (int d = 0; d < N; ++d) x_[idx(d, i)] = xn(d);
-      // log p(y | x, s) with each row's own noise density, and log p(o | s).
-      meas_.predict(xn, t, z);
-      double lw = 0.0;
-      if (fastlik_) {
-        double prod = 1.0;
-        for (int row = 0; row < m; ++row) {
-          if (std::isnan(y_(row))) continue;
-          const int a = meas_.row(row).anchor;
-          const int c = a < 0 ? 0 : s_[sidx(a, i)];
-          double res = y_(row) - z(row);
-          if (meas_.is_angle(row)) res = wrap_angle(res);
-          const RowLik& l = lik_[static_cast<std::size_t>(row) * static_cast<std::size_t>(nz_) +
-                                 static_cast<std::size_t>(c)];
-          if (l.rayleigh) {
-            prod *= res > 0.0 ? res : 0.0;  // outside the support: weight 0
-            lw += l.c - l.inv2 * res * res;
-          } else {
-            const double e = res - l.mu;
-            lw += l.c - l.inv2 * e * e;
-          }
-        }
-        lw += std::log(prod);
-      } else {
-        for (int row = 0; row < m; ++row) {
-          if (std::isnan(y_(row))) continue;
-          const int a = meas_.row(row).anchor;
-          const int c = a < 0 ? 0 : s_[sidx(a, i)];
-          double res = y_(row) - z(row);
-          if (meas_.is_angle(row)) res = wrap_angle(res);
-          lw += meas_.noise(row, c).log_pdf(res);
-        }
-      }
-      for (int b = 0; b < B_; ++b) lw += Lq_(b, s_[sidx(b, i)]);
-      logw_(i) += lw;
     }
   }
 
-  /// `normalised`: logw_ already sums to one in probability (skips a log-sum-exp pass).
-  void summarise(bool normalised = false) {
-    if (normalised)
-      w_ = logw_.array().exp();
-    else
-      w_ = (logw_.array() - log_sum_exp(logw_)).exp();
-    // one pass: weighted first and second moments (eq. 28 analogue for sampled particles)
+  /// Observed rows of this step with their parameters; log p(o_b | s) (quality) folded into the constant of
+  /// anchor b's first observed row, or listed in lonely_ when anchor b has no observed row.
+  void prepare_rows() {
+    nrows_ = 0;
+    nlonely_ = 0;
+    std::fill(lonely_.begin(), lonely_.end(), 1);
+    for (int r = 0; r < meas_.rows(); ++r) {
+      if (std::isnan(y_(r))) continue;
+      FastRow& f = rows_[static_cast<std::size_t>(nrows_++)];
+      const int a = meas_.row(r).anchor;
+      f.anchor = a;
+      f.rtoa = meas_.row(r).kind == RowKind::kRtoa ? 1 : 0;
+      f.set(FastRow::kY, y_(r));
+      for (int e = 0; e < 3; ++e)
+        f.set(FastRow::kQ0 + e, e < meas_.layout().space_dim ? meas_.anchors()(a, e) : 0.0);
+      for (int z = 0; z < 2; ++z) {
+        const RowLik& l = lik_[static_cast<std::size_t>(r) * 2 + static_cast<std::size_t>(z)];
+        f.set(FastRow::kMu0 + z, l.mu);
+        f.set(FastRow::kInv0 + z, l.inv2);
+        f.set(FastRow::kC0 + z, l.c + (lonely_[static_cast<std::size_t>(a)] ? Lq_(a, z) : 0.0));
+        double mask = 0.0;
+        if (l.rayleigh) {
+          const std::uint64_t ones = ~std::uint64_t{0};
+          std::memcpy(&mask, &ones, sizeof mask);
+        }
+        f.set(FastRow::kRay0 + z, mask);
+      }
+      lonely_[static_cast<std::size_t>(a)] = 0;
+    }
+    for (int b = 0; b < B_; ++b)
+      if (lonely_[static_cast<std::size_t>(b)]) lonely_[static_cast<std::size_t>(nlonely_++)] = b;
+  }
+
+  // ---- per-particle work -------------------------------------------------------------------------
+  void propagate_weight(int b0, int e0, int th, long k, double t, bool speed) {
+    ThreadWork& w = work_[static_cast<std::size_t>(th)];
+    BatchRng& rng = brng_[static_cast<std::size_t>(th)];
+    init_acc(w.sacc.data(), 1);
+    for (int i0 = b0; i0 < e0; i0 += kBlock) {
+      const int n = std::min(kBlock, e0 - i0);
+      const int ku = (n + 3) / 4 * 4;  // uniforms per anchor in this block (fill_uniform needs 4 | count)
+      rng.fill_uniform(w.u.data(), B_ * ku);
+      rng.fill_normal(w.z.data(), nq_ * n);
+      // 1. situation transition from the previous state (eqs. 9-10, 15-18 / 16)
+      int j = 0;
+      if (fast2d_) {
+        for (int b = 0; b < B_; ++b) {  // conditions as 0/1 doubles (a loop the compiler vectorises)
+          const std::uint8_t* sb = &s_[sidx(b, i0)];
+          double* sd = &w.sd[static_cast<std::size_t>(b) * kBlock];
+          for (int jj = 0; jj < n; ++jj) sd[jj] = sb[jj];
+        }
+        bool flip = false;
+        for (; j + kLanes <= n; j += kLanes) flip |= sight_fast<Packet>(i0, j, ku, w);
+        for (; j < n; ++j) flip |= sight_fast<double>(i0, j, ku, w);
+        if (flip)
+          for (int b = 0; b < B_; ++b) {
+            std::uint8_t* sb = &s_[sidx(b, i0)];
+            const double* sd = &w.sd[static_cast<std::size_t>(b) * kBlock];
+            for (int jj = 0; jj < n; ++jj) sb[jj] = static_cast<std::uint8_t>(sd[jj]);
+          }
+      } else {
+        for (; j < n; ++j) sight_generic(i0, j, ku, k, speed, w);
+      }
+      // 2. x_t = F x_{t-1} + G n (eq. 4)
+      move(i0, n, w);
+      // 3. log p(y | x, s) + log p(o | s), then the moments
+      if (fastrows_) {
+        if (meas_.layout().space_dim == 2)
+          weight_block<2>(i0, n, w);
+        else
+          weight_block<3>(i0, n, w);
+      } else {
+        for (j = 0; j < n; ++j) weight_generic(i0, j, t, w);
+      }
+    }
+    double* part = &parts_[static_cast<std::size_t>(th * stride_)];
+    std::copy(w.sacc.begin(), w.sacc.end(), part);
+    if (fastrows_)  // the fast path summed w s_b only (N_z = 2): the rest has s_b = 0
+      for (int b = 0; b < B_; ++b) part[kSp + 2 * b] = std::max(0.0, part[1] - part[kSp + 2 * b + 1]);
+  }
+
+  template <class P>
+  static P ld(const double* p) {
+    return Eigen::internal::ploadu<P>(p);
+  }
+  template <class P>
+  static P cst(double v) {
+    return Eigen::internal::pset1<P>(v);
+  }
+
+  template <class P>
+  bool sight_fast(int i0, int j, int ku, ThreadWork& w) {
+    namespace ei = Eigen::internal;
+    const auto& L = meas_.layout();
+    const int i = i0 + j;
+    const P vx = ld<P>(&x_[idx(L.velocity, i)]), vy = ld<P>(&x_[idx(L.velocity + 1, i)]);
+    const P v2 = ei::padd(ei::pmul(vx, vx), ei::pmul(vy, vy));
+    const P V = ei::psqrt(v2);
+    // pbar(|v|) with a relative margin of 1e-9 (so rounding never makes the pre-test reject a switch)
+    const P pv = ei::pdiv(ei::padd(ei::pmul(V, cst<P>(amax_)), cst<P>(cmax_)),
+                          ei::padd(ei::pmul(V, cst<P>(smin_)), cst<P>(pmin_)));
+    const P pbar = ei::pmul(ei::pmax(pv, cst<P>(cmax_ / pmin_)), cst<P>(1.0 + 1e-9));
+    P any = ei::pzero(pbar);
+    for (int b = 0; b < B_; ++b)
+      any = ei::por(any, ei::pcmp_lt(ld<P>(&w.u[static_cast<std::size_t>(b * ku + j)]), pbar));
+    if (!ei::predux_any(any)) return false;
+    const P px = ld<P>(&x_[idx(L.position, i)]), py = ld<P>(&x_[idx(L.position + 1, i)]);
+    const P half = cst<P>(0.5), one = cst<P>(1.0);
+    for (int b = 0; b < B_; ++b) {
+      const SwitchCoef& c = coef_[static_cast<std::size_t>(b)];
+      const P dx = ei::psub(px, cst<P>(meas_.anchors()(b, 0))),
+              dy = ei::psub(py, cst<P>(meas_.anchors()(b, 1)));
+      P cr = ei::psub(ei::pmul(dx, vy), ei::pmul(dy, vx));  // d x v: w = |d x v| / |d| (eq. 10)
+      P c2 = ei::pmul(cr, cr);
+      P d2 = ei::padd(ei::pmul(dx, dx), ei::pmul(dy, dy));
+      const P at = ei::pcmp_eq(d2, ei::pzero(d2));
+      if (ei::predux_any(at)) {  // at the anchor: w = |v|
+        c2 = ei::pselect(at, v2, c2);
+        d2 = ei::pselect(at, one, d2);
+      }
+      double* sdp = &w.sd[static_cast<std::size_t>(b * kBlock + j)];
+      const P s = ld<P>(sdp);
+      const P m = ei::pcmp_lt(half, s);
+      const P u = ld<P>(&w.u[static_cast<std::size_t>(b * ku + j)]);
+      const P g = ei::psub(ei::pselect(m, cst<P>(c.A[1]), cst<P>(c.A[0])),
+                           ei::pmul(u, ei::pselect(m, cst<P>(c.S[1]), cst<P>(c.S[0]))));
+      const P h = ei::psub(ei::pmul(u, ei::pselect(m, cst<P>(c.P[1]), cst<P>(c.P[0]))),
+                           ei::pselect(m, cst<P>(c.C[1]), cst<P>(c.C[0])));
+      // u < p  <=>  c^2 g|g| > d^2 h|h|
+      const P lhs = ei::pmul(c2, ei::pmul(g, ei::pabs(g)));
+      const P rhs = ei::pmul(d2, ei::pmul(h, ei::pabs(h)));
+      const P sn = ei::pxor(s, ei::pand(ei::pcmp_lt(rhs, lhs), one));  // 0 <-> 1 where switching
+      ei::pstoreu(sdp, sn);
+    }
+    return true;
+  }
+
+  void sight_generic(int i0, int j, int ku, long k, bool speed, ThreadWork& w) {
+    const auto& L = meas_.layout();
+    const int i = i0 + j;
+    for (int b = 0; b < B_; ++b) {
+      std::uint8_t& sb = s_[sidx(b, i)];
+      const double u = w.u[static_cast<std::size_t>(b * ku + j)];
+      int nj = 0;
+      if (speed) {
+        double p[3], v[3];
+        for (int e = 0; e < L.space_dim; ++e) {
+          p[e] = x_[idx(L.position + e, i)];
+          v[e] = x_[idx(L.velocity + e, i)];
+        }
+        const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>> pm(p, L.space_dim),
+            vm(v, L.space_dim);
+        const double sp = situation::transversal_speed(pm, vm, meas_.anchors().row(b).transpose());
+        sight_.model(b).transition(k, sp, w.T);  // eqs. (15)-(18) or (16)
+        double c = 0.0;
+        while (nj < nz_ - 1 && u >= (c += w.T(sb, nj))) ++nj;
+      } else {
+        while (nj < nz_ - 1 && u >= cum_[cidx(b, sb, nj)]) ++nj;
+      }
+      sb = static_cast<std::uint8_t>(nj);
+      w.sd[static_cast<std::size_t>(b * kBlock + j)] = nj;
+    }
+  }
+
+  /// x_t = F x_{t-1} + G n (eq. 4) from x_ into nx_ (swapped after the pass), one output row at a time over
+  /// the block; rows with one to three non-zero terms (all of them in the constant-velocity models) unrolled.
+  void move(int i0, int n, const ThreadWork& w) {
+    for (int r = 0; r < N; ++r) {
+      const double* src[N + N];
+      double v[N + N];
+      int ne = 0;
+      for (int e = fbeg_[r]; e < fbeg_[r + 1]; ++e, ++ne) {
+        src[ne] = &x_[idx(fent_[static_cast<std::size_t>(e)].col, i0)];
+        v[ne] = fent_[static_cast<std::size_t>(e)].v;
+      }
+      for (int e = gbeg_[r]; e < gbeg_[r + 1]; ++e, ++ne) {
+        src[ne] = &w.z[static_cast<std::size_t>(gent_[static_cast<std::size_t>(e)].col * n)];
+        v[ne] = gent_[static_cast<std::size_t>(e)].v;
+      }
+      double* out = &nx_[idx(r, i0)];
+      switch (ne) {
+        case 0: std::fill(out, out + n, 0.0); break;
+        case 1: lincomb<1>(out, n, src, v); break;
+        case 2: lincomb<2>(out, n, src, v); break;
+        case 3: lincomb<3>(out, n, src, v); break;
+        default:
+          for (int j = 0; j < n; ++j) {
+            double a = 0.0;
+            for (int e = 0; e < ne; ++e) a += v[e] * src[e][j];
+            out[j] = a;
+          }
+      }
+    }
+  }
+  template <int K>
+  static void lincomb(double* out, int n, const double* const* src, const double* v) {
+    namespace ei = Eigen::internal;
+    Packet c[K];
+    for (int e = 0; e < K; ++e) c[e] = cst<Packet>(v[e]);
+    int j = 0;
+    for (; j + kLanes <= n; j += kLanes) {
+      Packet a = ei::pmul(c[0], ld<Packet>(src[0] + j));
+      for (int e = 1; e < K; ++e) a = ei::padd(a, ei::pmul(c[e], ld<Packet>(src[e] + j)));
+      ei::pstoreu(out + j, a);
+    }
+    for (; j < n; ++j) {
+      double a = v[0] * src[0][j];
+      for (int e = 1; e < K; ++e) a += v[e] * src[e][j];
+      out[j] = a;
+    }
+  }
+
+  /// exp(d) for d <= 0, exactly 0 below -708 and for d = -inf or NaN.
+  template <class P>
+  static P wexp(const P& d) {
+    namespace ei = Eigen::internal;
+    return ei::pselect(ei::pcmp_lt(cst<P>(-708.0), d), ei::pexp(d), ei::pzero(d));
+  }
+
+  /// Accumulator rows: `lanes` interleaved rows of stride_ doubles (entry q of lane l at q * lanes + l).
+  void init_acc(double* a, int lanes) const {
+    std::fill(a, a + lanes, -std::numeric_limits<double>::infinity());
+    std::fill(a + lanes, a + lanes * stride_, 0.0);
+  }
+
+  /// Adds a weight exp(lw - running max) to the accumulators: [max, sum w, sum w^2, sum w xc (N),
+  /// situation sums (B x N_z)]; xc = x - centre_ (the previous estimate).
+  /// With `sd`, the lanes hold s in {0, 1} and only the N_z = 2 entry w s_b is summed; returns w.
+  template <class P>
+  P accumulate(double* a, const P& lw, const P* xc, const double* sd) const {
+    namespace ei = Eigen::internal;
+    constexpr int W = static_cast<int>(sizeof(P) / sizeof(double));
+    const P m0 = ld<P>(a);
+    const P up = ei::pcmp_lt(m0, lw);
+    P m = m0;
+    if (ei::predux_any(up)) {  // new running maximum: rescale (rare after the first particles)
+      m = ei::pselect(up, lw, m0);
+      const P f = ei::pselect(up, wexp<P>(ei::psub(m0, m)), cst<P>(1.0));
+      for (int q = 1; q < stride_; ++q) ei::pstoreu(a + q * W, ei::pmul(ld<P>(a + q * W), f));
+      ei::pstoreu(a + 2 * W, ei::pmul(ld<P>(a + 2 * W), f));  // sum w^2 scales by f^2
+      ei::pstoreu(a, m);
+    }
+    const P w = wexp<P>(ei::psub(lw, m));
+    auto add = [&](int q, const P& v) { ei::pstoreu(a + q * W, ei::padd(ld<P>(a + q * W), v)); };
+    add(1, w);
+    add(2, ei::pmul(w, w));
+    for (int d = 0; d < N; ++d) add(3 + d, ei::pmul(w, xc[d]));
+    if (sd != nullptr)
+      for (int b = 0; b < B_; ++b)
+        add(kSp + 2 * b + 1, ei::pmul(w, ld<P>(sd + static_cast<std::size_t>(b) * kBlock)));
+    return w;
+  }
+
+  /// Stage 3 on the fast path, as loops over the block with independent iterations (packets, then a scalar
+  /// tail): per observed row its log density into lw and the Rayleigh factors into pr; then the log weights,
+  /// the block's maximum, the weights and the moments.
+  template <int D>
+  void weight_block(int i0, int n, ThreadWork& w) {
+    namespace ei = Eigen::internal;
+    const auto& L = meas_.layout();
+    double* lwb = w.lw.data();
+    double* pr = w.pr.data();
+    std::fill(lwb, lwb + n, 0.0);
+    std::fill(pr, pr + n, 1.0);
+    const double* px[D];
+    for (int e = 0; e < D; ++e) px[e] = &nx_[idx(L.position + e, i0)];
+    const double* tp = L.clock_bias >= 0 ? &nx_[idx(L.clock_bias, i0)] : nullptr;
+    for (int r = 0; r < nrows_; ++r) {
+      const FastRow& f = rows_[static_cast<std::size_t>(r)];
+      const double* sd = &w.sd[static_cast<std::size_t>(f.anchor) * kBlock];
+      const bool rtoa = f.rtoa != 0 && tp != nullptr;
+      // which conditions are Rayleigh (bit z; the masks are NaN bit patterns, != 0)
+      const int ray = (f.k[FastRow::kRay0][0] != 0.0 ? 1 : 0) | (f.k[FastRow::kRay1][0] != 0.0 ? 2 : 0);
+      auto body = [&](auto q0, int j) {
+        using Q = decltype(q0);
+        auto k = [&f](int c) { return ld<Q>(f.k[c]); };
+        const Q zero = ei::pzero(q0), one = cst<Q>(1.0);
+        Q d2 = zero;
+        for (int e = 0; e < D; ++e) {
+          const Q de = ei::psub(ld<Q>(px[e] + j), k(FastRow::kQ0 + e));
+          d2 = ei::padd(d2, ei::pmul(de, de));
+        }
+        Q g = ei::psqrt(d2);  // ||p - q|| (+ tau), Table I
+        if (rtoa) g = ei::padd(g, ld<Q>(tp + j));
+        const Q res = ei::psub(k(FastRow::kY), g);
+        // Normal: c - (res - mu)^2 / (2 var); Rayleigh (Table X): log(res / s^2) - res^2 / (2 s^2), the log
+        // of res entering through the product pr (0 outside the support: weight 0)
+        const Q e0 = ei::psub(res, k(FastRow::kMu0)), e1 = ei::psub(res, k(FastRow::kMu1));
+        const Q l0 = ei::psub(k(FastRow::kC0), ei::pmul(k(FastRow::kInv0), ei::pmul(e0, e0)));
+        const Q l1 = ei::psub(k(FastRow::kC1), ei::pmul(k(FastRow::kInv1), ei::pmul(e1, e1)));
+        const Q mb = ei::pcmp_lt(cst<Q>(0.5), ld<Q>(sd + j));
+        ei::pstoreu(lwb + j, ei::padd(ld<Q>(lwb + j), ei::pselect(mb, l1, l0)));
+        if (ray != 0) {
+          const Q rp = ei::pmax(res, zero);
+          const Q fac = ray == 3 ? rp : ray == 2 ? ei::pselect(mb, rp, one) : ei::pselect(mb, one, rp);
+          ei::pstoreu(pr + j, ei::pmul(ld<Q>(pr + j), fac));
+        }
+      };
+      int j = 0;
+      for (; j + kLanes <= n; j += kLanes) body(ei::pzero(Packet()), j);
+      for (; j < n; ++j) body(0.0, j);
+    }
+    for (int q = 0; q < nlonely_; ++q) {  // quality of anchors without an observed row
+      const int b = lonely_[static_cast<std::size_t>(q)];
+      const double* sd = &w.sd[static_cast<std::size_t>(b) * kBlock];
+      for (int j = 0; j < n; ++j) lwb[j] += Lq_(b, sd[j] > 0.5 ? 1 : 0);
+    }
+    // log w_t = log w_{t-1} (normalised) + log p(y | x, s) + log p(o | s); block maximum
+    double* lwo = &logw_(i0);
+    const double ninf = -std::numeric_limits<double>::infinity();
+    Packet mp = cst<Packet>(ninf);
+    double ms = ninf;
+    {
+      int j = 0;
+      for (; j + kLanes <= n; j += kLanes) {
+        const Packet v =
+            ei::padd(ei::padd(ei::psub(ld<Packet>(lwo + j), cst<Packet>(prior_shift_)), ld<Packet>(lwb + j)),
+                     ei::plog(ld<Packet>(pr + j)));
+        ei::pstoreu(lwo + j, v);
+        mp = ei::pmax(mp, v);
+      }
+      for (; j < n; ++j) {
+        lwo[j] = (lwo[j] - prior_shift_) + lwb[j] + std::log(pr[j]);
+        ms = std::max(ms, lwo[j]);
+      }
+    }
+    double lanes[kLanes];
+    ei::pstoreu(lanes, mp);
+    for (double v : lanes) ms = std::max(ms, v);
+    double* a = w.sacc.data();
+    if (ms > a[0]) {  // new running maximum: rescale the sums
+      const double f = a[0] == ninf ? 0.0 : std::exp(a[0] - ms);
+      for (int q = 1; q < stride_; ++q) a[q] *= f;
+      a[2] *= f;  // sum w^2 scales by f^2
+      a[0] = ms;
+    }
+    if (a[0] == ninf) return;  // every weight so far is zero
+    // weights and moments about centre_: sum w, w^2, w xc, w xc xc^T, w s_b
+    const double m = a[0];
+    Packet s0 = ei::pzero(Packet()), s00 = s0, s1[N], sp[64];
+    for (int d = 0; d < N; ++d) s1[d] = s0;
+    for (int b = 0; b < B_; ++b) sp[b] = s0;
+    const double* xs[N];
+    for (int d = 0; d < N; ++d) xs[d] = &nx_[idx(d, i0)];
+    auto mom = [&](auto q0, int j, auto* S0, auto* S00, auto* S1, auto* SP) {
+      using Q = decltype(q0);
+      const Q wj = wexp<Q>(ei::psub(ld<Q>(lwo + j), cst<Q>(m)));
+      *S0 = ei::padd(*S0, wj);
+      *S00 = ei::padd(*S00, ei::pmul(wj, wj));
+      for (int d = 0; d < N; ++d)
+        S1[d] = ei::padd(S1[d], ei::pmul(wj, ei::psub(ld<Q>(xs[d] + j), cst<Q>(centre_(d)))));
+      for (int b = 0; b < B_; ++b)
+        SP[b] = ei::padd(SP[b], ei::pmul(wj, ld<Q>(&w.sd[static_cast<std::size_t>(b) * kBlock + j])));
+    };
+    int j = 0;
+    for (; j + kLanes <= n; j += kLanes) mom(s0, j, &s0, &s00, s1, sp);
+    double t0 = ei::predux(s0), t00 = ei::predux(s00), t1[N], tp2[64];
+    for (int d = 0; d < N; ++d) t1[d] = ei::predux(s1[d]);
+    for (int b = 0; b < B_; ++b) tp2[b] = ei::predux(sp[b]);
+    for (; j < n; ++j) mom(0.0, j, &t0, &t00, t1, tp2);
+    a[1] += t0;
+    a[2] += t00;
+    for (int d = 0; d < N; ++d) a[3 + d] += t1[d];
+    for (int b = 0; b < B_; ++b) a[kSp + 2 * b + 1] += tp2[b];
+  }
+
+  void weight_generic(int i0, int j, double t, ThreadWork& w) {
+    const int i = i0 + j;
+    const int m = meas_.rows();
+    State xn;
+    for (int d = 0; d < N; ++d) xn(d) = nx_[idx(d, i)];
+    VecX& z = w.zrow;
+    meas_.predict(xn, t, z);
+    double lw = 0.0;
+    if (fastlik_) {
+      double prod = 1.0;
+      for (int row = 0; row < m; ++row) {
+        if (std::isnan(y_(row))) continue;
+        const int a = meas_.row(row).anchor;
+        const int c = a < 0 ? 0 : s_[sidx(a, i)];
+        double res = y_(row) - z(row);
+        if (meas_.is_angle(row)) res = wrap_angle(res);
+        const RowLik& l =
+            lik_[static_cast<std::size_t>(row) * static_cast<std::size_t>(nz_) + static_cast<std::size_t>(c)];
+        if (l.rayleigh) {
+          prod *= res > 0.0 ? res : 0.0;  // outside the support: weight 0
+          lw += l.c - l.inv2 * res * res;
+        } else {
+          const double e = res - l.mu;
+          lw += l.c - l.inv2 * e * e;
+        }
+      }
+      lw += std::log(prod);
+    } else {
+      for (int row = 0; row < m; ++row) {
+        if (std::isnan(y_(row))) continue;
+        const int a = meas_.row(row).anchor;
+        const int c = a < 0 ? 0 : s_[sidx(a, i)];
+        double res = y_(row) - z(row);
+        if (meas_.is_angle(row)) res = wrap_angle(res);
+        lw += meas_.noise(row, c).log_pdf(res);
+      }
+    }
+    for (int b = 0; b < B_; ++b) lw += Lq_(b, s_[sidx(b, i)]);
+    lw += logw_(i) - prior_shift_;
+    logw_(i) = lw;
+    double xc[N];
+    for (int d = 0; d < N; ++d) xc[d] = xn(d) - centre_(d);
+    double* acc = w.sacc.data();
+    const double wi = accumulate<double>(acc, lw, xc, nullptr);
+    for (int b = 0; b < B_; ++b) acc[kSp + b * nz_ + s_[sidx(b, i)]] += wi;
+  }
+
+  /// Combines the partial sums of every thread and lane (each relative to its own running maximum) into the
+  /// estimate (eq. 28 analogue for sampled particles), covariance, situation probabilities and ESS; returns
+  /// log sum_i exp(logw_i), the log-likelihood of the step.
+  double reduce(double& ess) {
+    const int np = pool_->size();
+    double g = -std::numeric_limits<double>::infinity();
+    for (int p = 0; p < np; ++p) g = std::max(g, parts_[static_cast<std::size_t>(p * stride_)]);
+    tot_.assign(static_cast<std::size_t>(stride_), 0.0);
+    if (g == -std::numeric_limits<double>::infinity()) return g;
+    for (int p = 0; p < np; ++p) {
+      const double* a = &parts_[static_cast<std::size_t>(p * stride_)];
+      const double f = std::exp(a[0] - g);
+      if (!(f > 0.0)) continue;
+      for (int q = 1; q < stride_; ++q)  // sum w^2 (q = 2) scales by f^2
+        tot_[static_cast<std::size_t>(q)] += (q == 2 ? f * f : f) * a[q];
+    }
+    const double sw = tot_[1];
+    ess = sw * sw / tot_[2];
+    State m1;
+    for (int d = 0; d < N; ++d) m1(d) = tot_[static_cast<std::size_t>(3 + d)] / sw;
+    est_ = centre_ + m1;
+    cov_ready_ = false;
+    for (int b = 0; b < B_; ++b)
+      for (int z = 0; z < nz_; ++z) prob_(b, z) = tot_[static_cast<std::size_t>(kSp + b * nz_ + z)] / sw;
+    return g + std::log(sw);
+  }
+
+  /// Weighted covariance of the current particles and weights exp(logw_ - shift_), about est_, on the pool.
+  void compute_covariance() const {
+    constexpr int st = 1 + N + kNT;
+    std::fill(cparts_.begin(), cparts_.end(), 0.0);  // a thread with an empty chunk is not called
+    pool_->parallel_for(M_, [&](int b0, int e0, int th) {
+      double* a = &cparts_[static_cast<std::size_t>(th * st)];
+      for (int i = b0; i < e0; ++i) {
+        const double wi = std::exp(logw_(i) - shift_);
+        if (wi == 0.0) continue;
+        double xc[N];
+        for (int d = 0; d < N; ++d) xc[d] = x_[idx(d, i)] - est_(d);
+        a[0] += wi;
+        int q = 1 + N;
+        for (int d = 0; d < N; ++d) {
+          a[1 + d] += wi * xc[d];
+          for (int e = d; e < N; ++e, ++q) a[q] += wi * xc[d] * xc[e];
+        }
+      }
+    });
+    double tot[st] = {};
+    for (int t = 0; t < pool_->size(); ++t)
+      for (int q = 0; q < st; ++q) tot[q] += cparts_[static_cast<std::size_t>(t * st + q)];
+    State m1;
+    Cov m2;
+    int q = 1 + N;
+    for (int d = 0; d < N; ++d) {
+      m1(d) = tot[1 + d] / tot[0];
+      for (int e = d; e < N; ++e, ++q) m2(d, e) = m2(e, d) = tot[q] / tot[0];
+    }
+    est_cov_ = m2 - m1 * m1.transpose();
+    nlosloc::detail::symmetrize(est_cov_);
+    cov_ready_ = true;
+  }
+
+  /// Applies the deferred normalisation (logw_ -= shift_).
+  void normalise_log_weights() const {
+    if (shift_ == 0.0) return;
+    logw_.array() -= shift_;
+    shift_ = 0.0;
+  }
+
+  /// Scalar moments from the normalised log weights (after reset).
+  void summarise() {
+    w_ = (logw_.array() - log_sum_exp(logw_)).exp();
     State m1 = State::Zero();
     Cov m2 = Cov::Zero();
     prob_.setZero();
@@ -388,24 +932,72 @@ class ParticleFilter {
     est_ = m1;
     est_cov_ = m2 - m1 * m1.transpose();
     nlosloc::detail::symmetrize(est_cov_);
+    cov_ready_ = true;
   }
 
-  void resample() {
+  /// Systematic resampling of the weights exp(logw_ - z), on the pool: each thread takes the pointers
+  /// (j + u0) / M that fall in its chunk's share of the cumulative weight and copies their ancestors.
+  void resample(double z) {
+    namespace ei = Eigen::internal;
+    std::fill(csum_.begin(), csum_.end(), 0.0);  // a thread with an empty chunk is not called
+    std::fill(cbeg_.begin(), cbeg_.end(), 0);
+    std::fill(cend_.begin(), cend_.end(), 0);
+    pool_->parallel_for(M_, [&](int b0, int e0, int th) {
+      int i = b0;
+      Packet acc = ei::pzero(cst<Packet>(0.0));
+      for (; i + kLanes <= e0; i += kLanes) {
+        const Packet wi = wexp<Packet>(ei::psub(ld<Packet>(&logw_(i)), cst<Packet>(z)));
+        ei::pstoreu(&w_(i), wi);
+        acc = ei::padd(acc, wi);
+      }
+      double s = ei::predux(acc);
+      for (; i < e0; ++i) s += (w_(i) = wexp<double>(logw_(i) - z));
+      csum_[static_cast<std::size_t>(th)] = s;
+      cbeg_[static_cast<std::size_t>(th)] = b0;
+      cend_[static_cast<std::size_t>(th)] = e0;
+    });
+    const int T = pool_->size();
+    double total = 0.0;
+    for (int t = 0; t < T; ++t) total += csum_[static_cast<std::size_t>(t)];
     const double u0 = rng_[0].uniform();
-    systematic_resample(w_, M_, M_, u0, anc_.data());
-    for (int d = 0; d < N; ++d)
-      for (int i = 0; i < M_; ++i) nx_[idx(d, i)] = x_[idx(d, anc_[static_cast<std::size_t>(i)])];
-    for (int b = 0; b < B_; ++b)
-      for (int i = 0; i < M_; ++i) ns_[sidx(b, i)] = s_[sidx(b, anc_[static_cast<std::size_t>(i)])];
+    const double scale = static_cast<double>(M_) / total;
+    // first pointer index of each chunk: #{j : (j + u0) / M * total <= C_t}
+    auto first = [&](double c, int t) {
+      if (t == 0) return 0;
+      if (t == T) return M_;
+      const double f = std::floor(c * scale - u0) + 1.0;
+      return static_cast<int>(std::min<double>(M_, std::max(0.0, f)));
+    };
+    pool_->parallel_for(T, [&](int t0, int t1, int) {
+      for (int t = t0; t < t1; ++t) {
+        double c0 = 0.0;
+        for (int q = 0; q < t; ++q) c0 += csum_[static_cast<std::size_t>(q)];
+        const int jb = first(c0, t), je = first(c0 + csum_[static_cast<std::size_t>(t)], t + 1);
+        const int b0 = cbeg_[static_cast<std::size_t>(t)], e0 = cend_[static_cast<std::size_t>(t)];
+        if (jb >= je || b0 >= e0) continue;
+        int i = b0;
+        double c = c0 + w_(i);
+        for (int jj = jb; jj < je; ++jj) {
+          const double u = (static_cast<double>(jj) + u0) / scale;
+          while (u > c && i < e0 - 1) c += w_(++i);
+          anc_[static_cast<std::size_t>(jj)] = i;
+        }
+        for (int d = 0; d < N; ++d)
+          for (int jj = jb; jj < je; ++jj) nx_[idx(d, jj)] = x_[idx(d, anc_[static_cast<std::size_t>(jj)])];
+        for (int b = 0; b < B_; ++b)
+          for (int jj = jb; jj < je; ++jj) ns_[sidx(b, jj)] = s_[sidx(b, anc_[static_cast<std::size_t>(jj)])];
+      }
+    });
     std::swap(x_, nx_);
     std::swap(s_, ns_);
     logw_.setConstant(-std::log(static_cast<double>(M_)));
+    shift_ = 0.0;
   }
 
   /// Bucketed greedy merge (see the file comment); returns the number of absorbed particles.
   int merge_cells() {
     const auto& L = meas_.layout();
-    const double pos_var = est_cov_.diagonal().segment(L.position, L.space_dim).sum();
+    const double pos_var = covariance().diagonal().segment(L.position, L.space_dim).sum();
     const double d =
         opt_.merge_threshold >= 0.0 ? opt_.merge_threshold : default_merge_threshold(pos_var, M_);
     if (!(d > 0.0)) return 0;
@@ -432,37 +1024,50 @@ class ParticleFilter {
         mws_);
   }
 
+  static constexpr int kSp = 3 + N;  // offset of the situation sums in an accumulator row
+
   Motion motion_;
   Meas meas_;
   situation::SightProcess sight_;
   situation::QualityModel quality_;
   PfOptions opt_;
   std::unique_ptr<ThreadPool> pool_;  // stable address for the workers; the filter stays movable
-  int M_ = 0, B_ = 0, nz_ = 0;
-  bool fast2d_ = false;
-  struct RowLik {
-    bool rayleigh;
-    double mu, inv2, c;
-  };
+  int M_ = 0, B_ = 0, nz_ = 0, nq_ = 0, stride_ = 0;
+  bool fast2d_ = false;    // all chains speed-dependent LOS/NLOS in 2-D: switch test without sqrt/division
+  bool fastlik_ = false;   // every noise Normal or Rayleigh: closed-form log densities
+  bool fastrows_ = false;  // and N_z = 2 with range rows only: vectorised weights
   std::vector<RowLik> lik_;
-  bool fastlik_ = false;  // all chains speed-dependent LOS/NLOS in 2-D: closed-form switch probability
+  std::vector<FastRow> rows_;
+  std::vector<int> lonely_;
+  int nrows_ = 0, nlonely_ = 0;
+  std::vector<SwitchCoef> coef_;
+  double amax_ = 0.0, cmax_ = 0.0, smin_ = 0.0, pmin_ = 1.0;
+  std::vector<Entry> fent_, gent_;
+  int fbeg_[N + 1] = {}, gbeg_[N + 1] = {};
   double t_ = 0.0;
   long k_ = 0;
   std::vector<double> x_, nx_;
   std::vector<std::uint8_t> s_, ns_;
-  VecX logw_, w_;
+  mutable VecX logw_;
+  mutable double shift_ = 0.0;  // logw_ - shift_ are the normalised log weights
+  double prior_shift_ = 0.0;
+  VecX w_;
   std::vector<int> anc_;
   Eigen::Matrix<double, N, Eigen::Dynamic> G_;
   std::vector<Rng> rng_;
-  std::vector<VecX> z_;
-  std::vector<double> thread_sum_, cum_;
+  std::vector<BatchRng> brng_;
+  std::vector<ThreadWork> work_;
+  std::vector<double> parts_, tot_, csum_, cum_;
+  std::vector<int> cbeg_, cend_;
   MatX Lq_, T_, prob_;
   VecX y_;
   std::vector<std::uint64_t> mkey_;
   std::vector<int> morder_;
   MergeWorkspace mws_;
-  State est_;
-  Cov est_cov_;
+  State est_ = State::Zero(), centre_ = State::Zero();
+  mutable Cov est_cov_ = Cov::Zero();
+  mutable bool cov_ready_ = false;
+  mutable std::vector<double> cparts_;  // per-thread partial sums of compute_covariance()
 };
 
 }  // namespace nlosloc::rbpf

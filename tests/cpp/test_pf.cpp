@@ -1,0 +1,195 @@
+// Joint particle filter (Huerta Sec. VI-B) fast paths and the bulk generator behind them: BatchRng lanes are
+// jumped copies of an Rng, its uniforms and ziggurat normals have the right distribution, the PF's
+// square-root-free switching test (eqs. 10, 15-18) flips conditions with the closed-form probabilities, and
+// the lazily computed covariance and normalised log weights equal their definitions.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
+
+#include "nlosloc/core/logsumexp.hpp"
+#include "nlosloc/core/random.hpp"
+#include "nlosloc/rbpf/pf.hpp"
+
+using namespace nlosloc;
+using namespace nlosloc::rbpf;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
+namespace nn = nlosloc::noise;
+namespace si = nlosloc::situation;
+
+namespace {
+MatX hexagon() {
+  MatX a(6, 2);
+  for (int b = 0; b < 6; ++b) {
+    a(b, 0) = 3000 * std::cos(b * kPi / 3);
+    a(b, 1) = 3000 * std::sin(b * kPi / 3);
+  }
+  return a;
+}
+MeasurementStack h2_stack() {
+  MeasurementStack st(ConstantVelocityClock2::layout(), hexagon(), 2);
+  for (int b = 0; b < 6; ++b)
+    st.add_rtoa(b, {nn::Normal(0, std::sqrt(10.0)), nn::Rayleigh::from_variance(5000)});
+  return st;
+}
+double normal_cdf(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
+}  // namespace
+
+TEST_CASE("BatchRng lanes are the parent Rng jumped 1 to 4 times", "[pf][random]") {
+  Rng parent(42, 7);
+  BatchRng batch(parent);
+  std::vector<std::uint64_t> out(4 * 100);
+  batch.fill_bits(out.data(), 100);
+  for (int l = 0; l < BatchRng::kLanes; ++l) {
+    Rng lane = parent;
+    for (int j = 0; j <= l; ++j) lane.jump();
+    for (int j = 0; j < 100; ++j) CHECK(out[static_cast<std::size_t>(4 * j + l)] == lane());
+  }
+  // the parent is not advanced, and a jumped copy does not reproduce the parent's sequence
+  Rng a(42, 7), b(42, 7);
+  b.jump();
+  CHECK(a() != b());
+  CHECK(parent() == Rng(42, 7)());
+}
+
+TEST_CASE("BatchRng uniforms are in (0, 1) with the uniform moments", "[pf][random]") {
+  BatchRng r(Rng(3));
+  const int n = 1 << 20;
+  std::vector<double> u(static_cast<std::size_t>(n));
+  r.fill_uniform(u.data(), n);
+  double m = 0.0, m2 = 0.0;
+  for (double v : u) {
+    REQUIRE(v > 0.0);
+    REQUIRE(v < 1.0);
+    // (k + 1/2) 2^-52: 2^52 u - 1/2 is an integer
+    const double k = std::ldexp(v, 52) - 0.5;
+    REQUIRE(k == std::floor(k));
+    m += v;
+    m2 += v * v;
+  }
+  m /= n;
+  m2 /= n;
+  CHECK_THAT(m, WithinAbs(0.5, 5.0 * std::sqrt(1.0 / 12.0 / n)));
+  CHECK_THAT(m2 - m * m, WithinAbs(1.0 / 12.0, 1e-3));
+}
+
+TEST_CASE("BatchRng ziggurat normals: moments, tail mass and Kolmogorov-Smirnov", "[pf][random]") {
+  BatchRng r(Rng(11));
+  const int n = 2000000;
+  std::vector<double> z(static_cast<std::size_t>(n));
+  r.fill_normal(z.data(), n);
+  double m1 = 0.0, m2 = 0.0, m3 = 0.0, m4 = 0.0;
+  int tail = 0;
+  for (double v : z) {
+    m1 += v;
+    m2 += v * v;
+    m3 += v * v * v;
+    m4 += v * v * v * v;
+    if (std::abs(v) > nlosloc::detail::ZigguratNormal::kR) ++tail;
+  }
+  m1 /= n;
+  m2 /= n;
+  m3 /= n;
+  m4 /= n;
+  const double sn = 1.0 / std::sqrt(static_cast<double>(n));
+  CHECK_THAT(m1, WithinAbs(0.0, 5.0 * sn));
+  CHECK_THAT(m2, WithinAbs(1.0, 5.0 * std::sqrt(2.0) * sn));
+  CHECK_THAT(m3, WithinAbs(0.0, 5.0 * std::sqrt(15.0) * sn));
+  CHECK_THAT(m4, WithinAbs(3.0, 5.0 * std::sqrt(96.0) * sn));
+  // the tail sampler (beyond R) carries its exact mass 2 (1 - Phi(R))
+  const double pt = 2.0 * (1.0 - normal_cdf(nlosloc::detail::ZigguratNormal::kR));
+  CHECK_THAT(static_cast<double>(tail), WithinAbs(n * pt, 5.0 * std::sqrt(n * pt)));
+  // KS distance against Phi (critical value at level 1e-4 is about 2.0 / sqrt(n))
+  std::sort(z.begin(), z.end());
+  double ks = 0.0;
+  for (int i = 0; i < n; i += 7) {
+    const double f = normal_cdf(z[static_cast<std::size_t>(i)]);
+    ks = std::max(
+        {ks, std::abs(f - static_cast<double>(i) / n), std::abs(f - static_cast<double>(i + 1) / n)});
+  }
+  CHECK(ks < 2.0 * sn);
+  // the ziggurat table closes: the top layer has area V too
+  const auto& t = nlosloc::detail::ZigguratNormal::get();
+  CHECK_THAT(t.x[255] * (1.0 - t.fx[255]), WithinRel(nlosloc::detail::ZigguratNormal::kV, 1e-6));
+}
+
+TEST_CASE("joint PF: sight switches follow the closed-form probabilities of eqs. 15, 17 and 18", "[pf]") {
+  // one step from a prior with fast mobiles (sigma_v = 100 m/s, so w dt is about 1 m): the number of
+  // condition changes over all particles and anchors must match sum p(w_i, s_i) (Bernoulli counts, 5 sigma).
+  for (auto form : {si::SpeedModel::kSingle, si::SpeedModel::kMultiple, si::SpeedModel::kMemoryless}) {
+    ConstantVelocityClock2 motion(0.01, 1.0, 1e-2);
+    si::SightProcess proc(si::SightModel::speed_dependent(10, 30, 0.01, form), 6);
+    si::QualityModel q{{nn::Beta(4, 1.5), nn::Beta(1.5, 4)}};
+    const MeasurementStack st = h2_stack();
+    Gaussian<6> g;
+    g.mean << 100, -200, 0, 0, 0, 0;
+    g.cov = Vec<6>(1e6, 1e6, 10, 1e4, 1e4, 10).asDiagonal();
+    PfOptions po;
+    po.num_particles = 100001;  // odd: the scalar tails run too
+    po.ess_threshold = 0.0;
+    po.threads = 2;
+    po.seed = 5;
+    ParticleFilter<ConstantVelocityClock2> pf(motion, st, proc, q, g, po);
+    const MatX x0 = pf.particles();
+    const Eigen::MatrixXi s0 = pf.situations();
+    VecX y = VecX::Constant(6, std::numeric_limits<double>::quiet_NaN());  // no ranges: prior only
+    pf.step(y, VecX::Constant(6, std::numeric_limits<double>::quiet_NaN()));
+    const Eigen::MatrixXi s1 = pf.situations();
+    double expected = 0.0, var = 0.0;
+    int flips = 0;
+    for (int i = 0; i < po.num_particles; ++i)
+      for (int b = 0; b < 6; ++b) {
+        const double w = si::transversal_speed(x0.col(i).head<2>(), x0.col(i).segment<2>(3),
+                                               st.anchors().row(b).transpose());
+        const double p = si::speed_switch_probability(proc.model(b), s0(b, i), w);
+        expected += p;
+        var += p * (1.0 - p);
+        flips += s0(b, i) != s1(b, i) ? 1 : 0;
+      }
+    INFO("form " << static_cast<int>(form) << ": " << flips << " flips, expected " << expected);
+    CHECK(expected > 1000.0);
+    CHECK(std::abs(flips - expected) < 5.0 * std::sqrt(var));
+  }
+}
+
+TEST_CASE("joint PF: lazy covariance and normalised log weights equal their definitions", "[pf]") {
+  ConstantVelocityClock2 motion(0.01, 1.0, 1e-2);
+  si::SightProcess proc(si::SightModel::speed_dependent(10, 10, 0.01), 6);
+  si::QualityModel q{{nn::Beta(4, 1.5), nn::Beta(1.5, 4)}};
+  const MeasurementStack st = h2_stack();
+  Gaussian<6> g;
+  g.mean.setZero();
+  g.cov = Vec<6>(25, 25, 10, 1, 1, 10).asDiagonal();
+  Rng rng(2);
+  for (int threads : {1, 2}) {
+    PfOptions po;
+    po.num_particles = 3001;
+    po.ess_threshold = 0.0;
+    po.threads = threads;
+    ParticleFilter<ConstantVelocityClock2> pf(motion, st, proc, q, g, po);
+    for (int k = 0; k < 3; ++k) {
+      VecX y(6), o(6);
+      for (int b = 0; b < 6; ++b) {
+        y(b) = 3000.0 + 3.0 * rng.normal();
+        o(b) = 0.7;
+      }
+      y(2) = std::numeric_limits<double>::quiet_NaN();  // a missing row: anchor 2's quality still counts
+      const PfStepInfo info = pf.step(y, o);
+      const VecX& lw = pf.log_weights();
+      CHECK_THAT(log_sum_exp(lw), WithinAbs(0.0, 1e-9));
+      const VecX w = lw.array().exp();
+      const MatX X = pf.particles();
+      const Vec<6> m = X * w;
+      const MatX C = (X.colwise() - m) * w.asDiagonal() * (X.colwise() - m).transpose();
+      CHECK((pf.estimate() - m).cwiseAbs().maxCoeff() < 1e-9);
+      CHECK((pf.covariance() - C).cwiseAbs().maxCoeff() < 1e-7 * std::max(1.0, C.cwiseAbs().maxCoeff()));
+      CHECK_THAT(info.ess, WithinRel(1.0 / w.squaredNorm(), 1e-9));
+      VecX p1 = VecX::Zero(6);
+      const Eigen::MatrixXi S = pf.situations();
+      for (int i = 0; i < po.num_particles; ++i)
+        for (int b = 0; b < 6; ++b) p1(b) += S(b, i) * w(i);
+      CHECK((pf.situation_probabilities().col(1) - p1).cwiseAbs().maxCoeff() < 1e-9);
+    }
+  }
+}
