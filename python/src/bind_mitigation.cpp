@@ -88,6 +88,9 @@ void bind_mitigation(pybind11::module_& m) {
       .value("FeasibleVertices", ReferenceKind::kFeasibleVertices)
       .value("Hint", ReferenceKind::kHint)
       .value("LeastSquares", ReferenceKind::kLeastSquares);
+  py::enum_<BiasReference>(m, "BiasReference", "Residual and covariance of eq. (14) in QpBiasEkf.")
+      .value("Prediction", BiasReference::kPrediction)
+      .value("Snapshot", BiasReference::kSnapshot);
   m.attr("FLAG_REFERENCE_FALLBACK") = static_cast<unsigned>(kFlagReferenceFallback);
   m.attr("FLAG_BOUNDS_CLAMPED") = static_cast<unsigned>(kFlagBoundsClamped);
   m.attr("FLAG_QP_FAILED") = static_cast<unsigned>(kFlagQpFailed);
@@ -153,6 +156,11 @@ void bind_mitigation(pybind11::module_& m) {
           },
           py::arg("z"), py::arg("variances"), py::arg("hint") = py::none(),
           "Biases of ranges z (M,) with noise variances (M,) (eqs. 9-15); returns a BiasEstimate copy.")
+      .def("estimate_from_innovation", &BiasEstimator::estimate_from_innovation, py::arg("z"),
+           py::arg("innovation"), py::arg("D"),
+           "Eqs. (12)-(15) referenced to a tracker's prediction: r = innovation (M,) (eq. 26), L = I, "
+           "Sigma_v = D (M, M) (eq. 27: F P F^T + R), bounds from the ranges z (M,); returns a BiasEstimate "
+           "copy.")
       .def_property("sparsity", &BiasEstimator::sparsity, &BiasEstimator::set_sparsity,
                     "L1 tie-break weight added to eq. (14) (0 = plain eq. 14).")
       .def_property_readonly("size", &BiasEstimator::size)
@@ -174,7 +182,12 @@ void bind_mitigation(pybind11::module_& m) {
       .def_readwrite("noise", &QpBiasEkfOptions::noise, "RangeNoise of R(k).")
       .def_readwrite("mitigate", &QpBiasEkfOptions::mitigate, "False: plain EKF (eqs. 20-24).")
       .def_readwrite("always_estimate", &QpBiasEkfOptions::always_estimate, "Run the QP every step.")
-      .def_readwrite("sparsity", &QpBiasEkfOptions::sparsity, "L1 tie-break of eq. (14).");
+      .def_readwrite("sparsity", &QpBiasEkfOptions::sparsity, "L1 tie-break of eq. (14) (SNAPSHOT only).")
+      .def_readwrite(
+          "reference", &QpBiasEkfOptions::reference,
+          "BiasReference.Prediction (default: r = innovation, Sigma_v = eq. 27) or Snapshot (Sec. 3).")
+      .def_readwrite("drop_free_rows", &QpBiasEkfOptions::drop_free_rows,
+                     "Leave rows whose b^_i is strictly inside its box out of the update (default True).");
 
   py::class_<MitigationStep>(m, "MitigationStep", "What one QpBiasEkf update reports.")
       .def_readonly("filter", &MitigationStep::filter, "StepResult (log-likelihood, rows used, status).")
@@ -182,6 +195,8 @@ void bind_mitigation(pybind11::module_& m) {
       .def_readonly("bias_estimated", &MitigationStep::bias_estimated)
       .def_readonly("innovation_sq", &MitigationStep::innovation_sq, "alpha^T alpha (eq. 31).")
       .def_readonly("threshold", &MitigationStep::threshold, "gamma Tr[F P F^T + R] (eq. 32).")
+      .def_readonly("rows_dropped", &MitigationStep::rows_dropped,
+                    "Rows left out because b^_i was strictly inside its box.")
       .def_readonly("flags", &MitigationStep::flags);
 
   py::class_<QpBiasEkf>(m, "QpBiasEkf",

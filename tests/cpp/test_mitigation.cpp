@@ -122,6 +122,93 @@ TEST_CASE("eq. (14) with a biased range: objective at its minimum, bounds respec
   CHECK((Sv * est.sigma_v_ginv() * Sv - Sv).norm() < 1e-12 * Sv.norm());
 }
 
+TEST_CASE("eq. (14) referenced to the prediction (r = innovation, Sigma_v = eq. 27): unique minimiser",
+          "[mitigation][bias]") {
+  BiasEstimator est(small_anchors());
+  const VecX z = VecX::Constant(3, 20.0);
+  // Eq. (15) by hand: l12 = l13 = 10, l23 = sqrt(200); b^U = (40 - 10, 40 - sqrt(200), 40 - sqrt(200)).
+  const double u23 = 40.0 - std::sqrt(200.0);
+  // D = [[2, 1, 0], [1, 2, 0], [0, 0, 1]], r = (1, -1, 0). With b_2 at 0 the stationarity in b_1 of
+  // (r - b)^T D^-1 (r - b), D^-1 = [[2, -1, 0], [-1, 2, 0], [0, 0, 3]] / 3, gives 2 e_1 = e_2 = -1, i.e.
+  // b_1 = 1.5; the gradient in b_2 is -2 (D^-1 e)_2 = -2 (0.5 - 2) / 3 = 1 > 0, so b_2 = 0 is optimal.
+  MatX D(3, 3);
+  D << 2, 1, 0, 1, 2, 0, 0, 0, 1;
+  const BiasEstimate& e = est.estimate_from_innovation(z, Vec<3>(1.0, -1.0, 0.0), D);
+  REQUIRE(e.qp.ok());
+  CHECK(e.flags == kFlagNone);
+  CHECK_THAT(e.upper[0], WithinAbs(30.0, 1e-12));
+  CHECK_THAT(e.upper[1], WithinAbs(u23, 1e-12));
+  CHECK_THAT(e.upper[2], WithinAbs(u23, 1e-12));
+  CHECK_THAT(e.bias[0], WithinAbs(1.5, 1e-6));
+  CHECK_THAT(e.bias[1], WithinAbs(0.0, 1e-6));
+  CHECK_THAT(e.bias[2], WithinAbs(0.0, 1e-6));
+  CHECK(est.L().isIdentity(0.0));
+  CHECK(est.sigma_v().isApprox(D, 1e-15));
+  CHECK((est.sigma_v_ginv() * D - MatX::Identity(3, 3)).norm() < 1e-12);
+  // D = I: b^ is r clipped to the box, the upper bound of eq. (15) included.
+  const BiasEstimate& e2 = est.estimate_from_innovation(z, Vec<3>(40.0, -1.0, 0.5), MatX::Identity(3, 3));
+  REQUIRE(e2.qp.ok());
+  CHECK_THAT(e2.bias[0], WithinAbs(30.0, 1e-6));
+  CHECK_THAT(e2.bias[1], WithinAbs(0.0, 1e-6));
+  CHECK_THAT(e2.bias[2], WithinAbs(0.5, 1e-6));
+  // Shapes named; a D that is not positive definite is a flagged fallback (b^ = 0), not an exception.
+  CHECK_THROWS_WITH(est.estimate_from_innovation(z, VecX::Zero(3), MatX::Identity(2, 2)),
+                    Catch::Matchers::Contains("D"));
+  CHECK_THROWS_WITH(est.estimate_from_innovation(z, VecX::Zero(2), MatX::Identity(3, 3)),
+                    Catch::Matchers::Contains("innovation"));
+  const BiasEstimate& e3 = est.estimate_from_innovation(z, Vec<3>(1, 1, 1), -MatX::Identity(3, 3));
+  CHECK((e3.flags & kFlagDegenerateGeometry) != 0);
+  CHECK(e3.bias.isZero());
+}
+
+TEST_CASE("proposed update: rows whose b^ is inside its box are left out, the others use z - b^",
+          "[mitigation][bias]") {
+  QpBiasEkfOptions o;
+  o.noise.sigma0 = 0.1;
+  o.always_estimate = true;
+  VecX z = exact_ranges();
+  z[2] += 3.0;  // NLOS excess on anchor 3, the prediction sits at the truth
+  QpBiasEkf f(motion(), small_anchors(), belief_at(3, 4), o);
+  const MitigationStep s = f.update(z);
+  REQUIRE(s.bias_estimated);
+  const VecX b = f.bias();
+  const BiasEstimate& be = f.bias_estimator().last();
+  CHECK(b[2] > 1.0);  // most of the excess is attributed to anchor 3
+  // Expected update, by hand: a plain EKF (eqs. 22-24) on z - b^ with the interior rows missing.
+  VecX zc = z - b;
+  int dropped = 0;
+  for (int i = 0; i < 3; ++i)
+    if (b[i] > be.lower[i] + 1e-6 && b[i] < be.upper[i] - 1e-6) {
+      zc[i] = std::nan("");
+      ++dropped;
+    }
+  CHECK(dropped >= 1);
+  CHECK(s.rows_dropped == dropped);
+  CHECK(s.filter.rows_used == 3 - dropped);
+  QpBiasEkfOptions plain = o;
+  plain.mitigate = false;
+  QpBiasEkf g(motion(), small_anchors(), belief_at(3, 4), plain);
+  g.update(zc);
+  CHECK(f.mean().isApprox(g.mean(), 1e-9));
+  CHECK(f.cov().isApprox(g.cov(), 1e-9));
+  // drop_free_rows = false: eq. (25) on every row (z - b^ with variance R).
+  QpBiasEkfOptions keep = o;
+  keep.drop_free_rows = false;
+  QpBiasEkf h(motion(), small_anchors(), belief_at(3, 4), keep);
+  const MitigationStep sk = h.update(z);
+  CHECK(sk.rows_dropped == 0);
+  QpBiasEkf g2(motion(), small_anchors(), belief_at(3, 4), plain);
+  g2.update(VecX(z - h.bias()));
+  CHECK(h.mean().isApprox(g2.mean(), 1e-9));
+  // The literal Sec. 3 form stays available: its L is the rank M - 2 projector, not I.
+  QpBiasEkfOptions snap = o;
+  snap.reference = BiasReference::kSnapshot;
+  QpBiasEkf q(motion(), small_anchors(), belief_at(3, 4), snap);
+  q.update(z);
+  CHECK(q.bias_estimator().L().trace() < 1.5);  // trace of a rank-1 projector is 1
+  CHECK(q.mean().allFinite());
+}
+
 TEST_CASE("inconsistent ranges: eq. (15) lower > upper is clamped and flagged, result finite",
           "[mitigation][fallback]") {
   BiasEstimator est(small_anchors());

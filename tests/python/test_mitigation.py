@@ -110,6 +110,21 @@ def test_bias_qps_match_osqp() -> None:
         assert abs(f - fo) <= 1e-6 * max(1.0, abs(fo))
 
 
+def test_bias_from_innovation_hand_computed() -> None:
+    # Eq. (14) with r = innovation, L = I, Sigma_v = D (eq. 27): the C++ test's hand-computed case.
+    est = mitigation.BiasEstimator(ANCHORS)
+    z = np.full(3, 20.0)
+    d = np.array([[2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 1.0]])
+    e = est.estimate_from_innovation(z, np.array([1.0, -1.0, 0.0]), d)
+    assert e.qp.ok() and e.flags == 0
+    np.testing.assert_allclose(e.bias, [1.5, 0.0, 0.0], atol=1e-6)
+    np.testing.assert_allclose(e.upper, [30.0, 40.0 - np.sqrt(200.0), 40.0 - np.sqrt(200.0)])
+    with pytest.raises(ValueError, match="D"):
+        est.estimate_from_innovation(z, np.zeros(3), np.eye(2))
+    opt = mitigation.QpBiasEkfOptions()
+    assert opt.reference == mitigation.BiasReference.Prediction and opt.drop_free_rows
+
+
 def test_innovation_test_eqs_31_32() -> None:
     opt = mitigation.QpBiasEkfOptions()
     opt.noise = mitigation.RangeNoise(1.0)

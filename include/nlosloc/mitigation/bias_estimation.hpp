@@ -17,12 +17,28 @@
 /// Hessian 2 L^T Sigma_v^- L has rank M - 2 as well: the minimisers form the set {b = y - H0 xi} (the
 /// biases implied by a candidate position xi) cut by the box, generally not a single point. The QP solver
 /// returns one of them (proxsuite, started cold, returns one close to the minimum-norm minimiser).
+///
+/// Consequence (measured on K1, issue #4): whatever minimiser is picked, z - b^ are the ranges of one point
+/// xi of the feasible region, so the snapshot form only moves the EKF towards some point of that region
+/// (min-norm pick: next to the biased least-squares fix). With M = 3 in 2-D the snapshot carries one
+/// number about b per step; it cannot separate three biases.
+///
+/// Second form, estimate_from_innovation() (the trackers' default, QpBiasEkf, BiasReference::kPrediction):
+/// eqs. (12)-(14) with the bias-free estimate X~ of eq. (12) read as the tracker's prediction S(k|k-1)
+/// (the "estimate X^" of eq. 13 whose error enters v), linearised where the EKF linearises (eq. 19):
+///   r = z - f(X(k|k-1)) = alpha(k) (eq. 26),  L = I,  v = F (S - S(k|k-1)) + n,
+///   Sigma_v = F P(k|k-1) F^T + R = D_LOS(k) (eq. 27),
+///   b^ = argmin (r - b)^T Sigma_v^-1 (r - b)  s.t. 0 <= b_i <= b_i^U (eqs. 14-15).
+/// Sigma_v is positive definite, so the minimiser is unique. This is also what eq. (14) becomes when the
+/// prior N(S(k|k-1), P(k|k-1)) of the EKF is added to the snapshot objective and the position is
+/// eliminated: min over (b, X) of |y - H0 X - b|^2_R^-1 + |X - X(k|k-1)|^2_P^-1 gives the same b^.
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <string>
 
 #include "nlosloc/core/types.hpp"
+#include "nlosloc/filters/common.hpp"
 #include "nlosloc/mitigation/box_qp.hpp"
 #include "nlosloc/mitigation/box_qp_proxsuite.hpp"
 
@@ -33,6 +49,12 @@ enum class ReferenceKind {
   kFeasibleVertices = 0,  ///< Sec. 3: mean of the vertices of the discs' common region
   kHint = 1,              ///< fallback: the caller's hint (the tracker's predicted position)
   kLeastSquares = 2       ///< fallback without hint: least-squares range fit (Gauss-Newton)
+};
+
+/// Residual r and covariance Sigma_v used by eq. (14) in the trackers (file comment).
+enum class BiasReference {
+  kPrediction = 0,  ///< r = alpha(k) (eq. 26), L = I, Sigma_v = D_LOS(k) (eq. 27): estimate_from_innovation
+  kSnapshot = 1     ///< Sec. 3 as written: X0, H0, X~ = LS fix, L, Sigma_v = L R L^T: estimate
 };
 
 /// Bits of a bias estimate's / tracker step's `flags` (a fallback was taken; the result stays finite).
@@ -288,18 +310,7 @@ class BiasEstimator {
     Svg_.noalias() = rinv_.asDiagonal() * L_;
     nlosloc::detail::symmetrize(Svg_);
 
-    // Eq. (15): b_i^U = min_j (z_i + z_j - l_ij); eq. (14): b_i^L = 0. Documented clamp when b^U < b^L.
-    for (int i = 0; i < M_; ++i) {
-      double u = std::numeric_limits<double>::infinity();
-      for (int j = 0; j < M_; ++j)
-        if (j != i) u = std::min(u, z[i] + z[j] - l_(i, j));
-      e.lower[i] = 0.0;
-      if (u < 0.0) {
-        u = 0.0;
-        e.flags |= kFlagBoundsClamped;
-      }
-      e.upper[i] = u;
-    }
+    upper_bounds(z, e);  // eq. (15), lower 0 (eq. 14)
 
     // Eq. (14) as min 1/2 u^T Hq u + gq^T u over u = b / s (s = sqrt(mean R): unit-scale variables):
     // (r - L b)^T Sigma_v^- (r - L b) = s^2 u^T (L^T Sigma_v^- L) u - 2 s (L^T Sigma_v^- r)^T u + const.
@@ -329,6 +340,59 @@ class BiasEstimator {
     return e;
   }
 
+  /// Eqs. (12)-(15) referenced to the tracker's prediction (file comment, second form): r = innovation
+  /// (M, eq. 26: z - f(X(k|k-1))), Sigma_v = D (M x M, eq. 27: F P(k|k-1) F^T + R, positive definite),
+  /// bounds 0 <= b <= eq. (15) from the ranges z (M). Never throws on inconsistent data (flags as in
+  /// estimate()); throws std::invalid_argument on wrong shapes. No heap allocation (beyond the solver).
+  const BiasEstimate& estimate_from_innovation(const Eigen::Ref<const VecX>& z,
+                                               const Eigen::Ref<const VecX>& innovation,
+                                               const Eigen::Ref<const MatX>& D) {
+    nlosloc::detail::ensure_shape(z, M_, 1, "z");
+    nlosloc::detail::ensure_shape(innovation, M_, 1, "innovation");
+    nlosloc::detail::ensure_shape(D, M_, M_, "D");
+    BiasEstimate& e = est_;
+    e.flags = 0;
+    e.bias.setZero();
+    e.qp = QpResult{};
+    if (!z.allFinite() || !innovation.allFinite()) {
+      e.flags |= kFlagMissingRows;
+      e.lower.setZero();
+      e.upper.setZero();
+      return e;
+    }
+    upper_bounds(z, e);  // eq. (15), lower 0 (eq. 14)
+    // Sigma_v^-1 = D^-1 through the Cholesky factor of D (eq. 27 covariance, positive definite).
+    Sv_ = D;  // Sigma_v of eq. (13) in this form (eq. 27)
+    nlosloc::detail::symmetrize(Sv_);
+    r_ = innovation;  // eq. (12) with X~ := X(k|k-1): r = alpha(k)
+    L_.setIdentity();
+    T_ = Sv_;
+    const double s = std::sqrt(std::max(T_.diagonal().mean(), 1e-300));  // unit-scale variables u = b / s
+    if (!T_.allFinite() || !nlosloc::detail::small_cholesky_inplace(T_)) {
+      e.flags |= kFlagDegenerateGeometry;
+      return e;
+    }
+    Hq_.setIdentity();
+    nlosloc::detail::small_forward_inplace(T_, Hq_);  // Lc^-1 (lower triangular), D = Lc Lc^T
+    Svg_.noalias() = Hq_.transpose() * Hq_;           // Sigma_v^-1 = D^-1 = Lc^-T Lc^-1
+    // Eq. (14) with L = I: (r - b)^T D^-1 (r - b) = s^2 u^T D^-1 u - 2 s (D^-1 r)^T u + const.
+    Hq_ = (2.0 * s * s) * Svg_;
+    nlosloc::detail::symmetrize(Hq_);
+    gq_.noalias() = Svg_ * innovation;
+    gq_ *= -2.0 * s;
+    lq_ = e.lower / s;
+    uq_ = e.upper / s;
+    e.qp = solver_->solve(Hq_, gq_, lq_, uq_);
+    if (!e.qp.ok() || !solver_->x().allFinite()) {
+      e.flags |= kFlagQpFailed;
+      e.bias.setZero();
+      return e;
+    }
+    e.bias = s * solver_->x();
+    e.bias = e.bias.cwiseMax(e.lower).cwiseMin(e.upper);
+    return e;
+  }
+
   /// Weight of the L1 tie-break added to eq. (14) (relative to the mean Hessian diagonal; 0 = the plain
   /// eq. 14, whose minimiser is not unique, leaving the pick to the solver). >= 0.
   void set_sparsity(double w) {
@@ -345,12 +409,28 @@ class BiasEstimator {
   const MatX& L() const { return L_; }               ///< eq. (12), M x M
   const VecX& y() const { return y_; }               ///< eq. (9), M
   const VecX& r() const { return r_; }               ///< eq. (12), M
-  const MatX& sigma_v() const { return Sv_; }        ///< eq. (13), M x M
-  const MatX& sigma_v_ginv() const { return Svg_; }  ///< R^-1 L, generalised inverse of Sigma_v
+  const MatX& sigma_v() const { return Sv_; }        ///< eq. (13), M x M (eq. 27's D after the 2nd form)
+  const MatX& sigma_v_ginv() const { return Svg_; }  ///< R^-1 L (snapshot) or D^-1 (2nd form)
   const MatX& qp_hessian() const { return Hq_; }     ///< QP Hessian in the scaled variables u = b / s
   const VecX& qp_gradient() const { return gq_; }    ///< QP linear term in the scaled variables
 
  private:
+  // Eq. (15): b_i^U = min_j (z_i + z_j - l_ij); eq. (14): b_i^L = 0. Documented clamp when b^U < b^L.
+  template <class DZ>
+  void upper_bounds(const Eigen::MatrixBase<DZ>& z, BiasEstimate& e) const {
+    for (int i = 0; i < M_; ++i) {
+      double u = std::numeric_limits<double>::infinity();
+      for (int j = 0; j < M_; ++j)
+        if (j != i) u = std::min(u, z[i] + z[j] - l_(i, j));
+      e.lower[i] = 0.0;
+      if (u < 0.0) {
+        u = 0.0;
+        e.flags |= kFlagBoundsClamped;
+      }
+      e.upper[i] = u;
+    }
+  }
+
   MatX anchors_;
   int M_;
   std::unique_ptr<BoxQp> solver_;

@@ -4,11 +4,28 @@
 /// constant-velocity model of eq. (16) whose measurement update subtracts the NLOS biases estimated by the
 /// box QP of Sec. 3 (eq. 25), the QP being run only when the innovation test of eqs. (31)-(32) declares NLOS.
 ///
+/// Interpretations where the paper is ambiguous (issue #4; evidence in the K1 choices and the report):
+///  1. Reference of the bias metric (eqs. 12-13), option `reference`. Read literally (kSnapshot: X~ = the
+///     least-squares fix linearised at Sec. 3's reference point) the Hessian of eq. (14) has rank M - 2 and
+///     the QP cannot tell the biases apart (bias_estimation.hpp); on K1 the tracker then barely mitigates
+///     (2 NLOS nodes: 458 m at 67%). Default kPrediction: X~ := S(k|k-1), the tracker's prediction, whose
+///     error is the X - X^ of eq. (13); then r = alpha(k) (eq. 26), L = I, Sigma_v = D_LOS(k) (eq. 27) and
+///     eq. (14) has a unique minimiser (BiasEstimator::estimate_from_innovation).
+///  2. Rows whose b^_i lies strictly inside (b_i^L, b_i^U), option `drop_free_rows` (default true): there
+///     the QP sets b^_i from the row's own innovation (stationarity of eq. 14 in b_i), so z_i - b^_i carries
+///     no information on the state left; keeping it in eqs. (22)-(23) with variance R_ii would shrink
+///     P(k|k) as if an exact range had been used, and the filter coasts on a falsely confident prediction
+///     (K1, 1 NLOS node: 51 / 176 m instead of 44 / 70 m at 67 / 95%). Such rows are left out of (22)-(25)
+///     for this step, like a missing row; rows with b^_i at a bound (0: LOS-like, b^U) are updated with
+///     z_i - b^_i as eq. (25) says.
+///  3. The test of eq. (32) uses the raw innovation alpha(k) (eq. 26), before any bias is subtracted.
+///
 /// Adaptive R (their ref. [19], Sage and Husa 1969): left out. The paper only says "R(k) is updated by the
 /// adaptive approach in [19]" without the estimator's form (forgetting factor, whether the innovation used
 /// is the raw or the bias-corrected one, the positivity safeguard), so it cannot be reproduced from the
 /// paper; R(k) here is the range-noise model of RangeNoise evaluated at the predicted position.
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -25,7 +42,11 @@ struct QpBiasEkfOptions {
   RangeNoise noise{};            ///< R(k): std_i = sigma0 + relative * d_i at the predicted position
   bool mitigate = true;          ///< false: plain EKF (eqs. 20-24), the paper's "EKF" column
   bool always_estimate = false;  ///< true: run the QP at every step (skip the test of eq. 32)
-  double sparsity = 0.0;         ///< L1 tie-break of eq. (14), BiasEstimator::set_sparsity
+  double sparsity = 0.0;         ///< L1 tie-break of eq. (14) (kSnapshot only), BiasEstimator::set_sparsity
+  /// Residual and covariance of eqs. (12)-(14): prediction-referenced (default) or Sec. 3's snapshot.
+  BiasReference reference = BiasReference::kPrediction;
+  /// Leave rows with b^_i strictly inside the box out of the update (file comment, item 2).
+  bool drop_free_rows = true;
 
   void validate() const {
     NLOSLOC_ENSURE(gamma >= 1.0 && std::isfinite(gamma),
@@ -41,6 +62,7 @@ struct MitigationStep {
   bool bias_estimated = false;  ///< the QP of eq. (14) ran this step
   double innovation_sq = 0.0;   ///< alpha^T alpha, eq. (31) left side (rows used)
   double threshold = 0.0;       ///< gamma Tr[F P F^T + R], eq. (32) right side
+  int rows_dropped = 0;         ///< rows left out because b^_i was strictly inside its box (drop_free_rows)
   unsigned flags = 0;           ///< MitigationFlag bits (fallbacks taken)
 };
 
@@ -162,19 +184,34 @@ class QpBiasEkf {
     res.threshold = opt_.gamma * trace;
     res.nlos = asq > res.threshold;
     bias_.setZero();
+    bool free_rows = false;
     if (opt_.mitigate && (res.nlos || opt_.always_estimate)) {
       if (missing) {
         res.flags |= kFlagMissingRows;
       } else {
         const Vec<2> hint = x_.head<2>();
-        const BiasEstimate& be = bias_est_.estimate(z, var_, &hint);  // Sec. 3, eqs. (9)-(15)
+        // Eqs. (12)-(15): r = alpha(k), Sigma_v = D_LOS(k) of eq. (27) (kPrediction), or Sec. 3 snapshot.
+        const BiasEstimate& be = opt_.reference == BiasReference::kPrediction
+                                     ? bias_est_.estimate_from_innovation(z, a_, t.S)
+                                     : bias_est_.estimate(z, var_, &hint);
         res.flags |= be.flags;
         res.bias_estimated = true;
         bias_ = be.bias;
+        free_rows = opt_.drop_free_rows && be.qp.ok() && (be.flags & kFlagQpFailed) == 0;
       }
     }
     // Eq. (25): S(k|k) = S(k|k-1) + K(k) [z(k) - z^(k|k-1) - b^(k)], K of eq. (22), P of eq. (23).
     ycorr_ = z - bias_;
+    if (free_rows) {
+      const BiasEstimate& be = bias_est_.last();
+      for (int i = 0; i < M; ++i) {
+        const double tol = 1e-6 * (1.0 + std::sqrt(std::abs(t.S(i, i))));
+        if (bias_[i] > be.lower[i] + tol && bias_[i] < be.upper[i] - tol) {
+          ycorr_[i] = std::numeric_limits<double>::quiet_NaN();  // interpretation 2: row left out
+          ++res.rows_dropped;
+        }
+      }
+    }
     const State x0 = x_;
     const Cov P0 = P_;
     const bool ok = t.apply(
