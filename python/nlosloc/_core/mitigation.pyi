@@ -7,7 +7,7 @@ import nlosloc._core.models
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BiasAugmentedEkf', 'BiasAugmentedEkfOptions', 'BiasEstimate', 'BiasEstimator', 'BoxQp', 'BoxQpSettings', 'FLAG_BOUNDS_CLAMPED', 'FLAG_DEGENERATE_GEOMETRY', 'FLAG_MISSING_ROWS', 'FLAG_QP_FAILED', 'FLAG_REFERENCE_FALLBACK', 'FLAG_UPDATE_REJECTED', 'MitigationStep', 'QpBiasEkf', 'QpBiasEkfOptions', 'QpResult', 'QpStatus', 'RangeNoise', 'ReferenceKind', 'ReferencePoint', 'have_default_box_qp', 'make_box_qp', 'reference_point']
+__all__: list[str] = ['BiasAugmentedEkf', 'BiasAugmentedEkfOptions', 'BiasEstimate', 'BiasEstimator', 'BiasReference', 'BoxQp', 'BoxQpSettings', 'FLAG_BOUNDS_CLAMPED', 'FLAG_DEGENERATE_GEOMETRY', 'FLAG_MISSING_ROWS', 'FLAG_QP_FAILED', 'FLAG_REFERENCE_FALLBACK', 'FLAG_UPDATE_REJECTED', 'MitigationStep', 'QpBiasEkf', 'QpBiasEkfOptions', 'QpResult', 'QpStatus', 'RangeNoise', 'ReferenceKind', 'ReferencePoint', 'have_default_box_qp', 'make_box_qp', 'reference_point']
 class QpStatus:
     """
     Outcome of BoxQp.solve.
@@ -198,6 +198,53 @@ class ReferenceKind:
     @property
     def value(self) -> int:
         ...
+class BiasReference:
+    """
+    Residual and covariance of eq. (14) in QpBiasEkf.
+    
+    Members:
+    
+      Prediction
+    
+      Snapshot
+    """
+    Prediction: typing.ClassVar[BiasReference]
+    Snapshot: typing.ClassVar[BiasReference]
+    __members__: typing.ClassVar[dict[str, BiasReference]]
+    @typing.overload
+    def __eq__(self, other: BiasReference) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: BiasReference) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
 class RangeNoise:
     """
     Range noise std_i = sigma0 + relative * d_i (m).
@@ -286,6 +333,10 @@ class BiasEstimator:
         """
         Biases of ranges z (M,) with noise variances (M,) (eqs. 9-15); returns a BiasEstimate copy.
         """
+    def estimate_from_innovation(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], innovation: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], D: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.f_contiguous"]) -> BiasEstimate:
+        """
+        Eqs. (12)-(15) referenced to a tracker's prediction: r = innovation (M,) (eq. 26), L = I, Sigma_v = D (M, M) (eq. 27: F P F^T + R), bounds from the ranges z (M,); returns a BiasEstimate copy.
+        """
     @property
     def H0(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
@@ -356,6 +407,14 @@ class QpBiasEkfOptions:
     def always_estimate(self, arg0: bool) -> None:
         ...
     @property
+    def drop_free_rows(self) -> bool:
+        """
+        Leave rows whose b^_i is strictly inside its box out of the update (default True).
+        """
+    @drop_free_rows.setter
+    def drop_free_rows(self, arg0: bool) -> None:
+        ...
+    @property
     def gamma(self) -> float:
         """
         Scaling factor of eq. (32), >= 1.
@@ -380,9 +439,17 @@ class QpBiasEkfOptions:
     def noise(self, arg0: RangeNoise) -> None:
         ...
     @property
+    def reference(self) -> BiasReference:
+        """
+        BiasReference.Prediction (default: r = innovation, Sigma_v = eq. 27) or Snapshot (Sec. 3).
+        """
+    @reference.setter
+    def reference(self, arg0: BiasReference) -> None:
+        ...
+    @property
     def sparsity(self) -> float:
         """
-        L1 tie-break of eq. (14).
+        L1 tie-break of eq. (14) (SNAPSHOT only).
         """
     @sparsity.setter
     def sparsity(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
@@ -411,6 +478,11 @@ class MitigationStep:
     def nlos(self) -> bool:
         """
         H1 of eq. (32).
+        """
+    @property
+    def rows_dropped(self) -> int:
+        """
+        Rows left out because b^_i was strictly inside its box.
         """
     @property
     def threshold(self) -> float:
