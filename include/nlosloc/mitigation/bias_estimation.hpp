@@ -327,17 +327,7 @@ class BiasEstimator {
       // penalty (u >= 0) that picks, among the many minimisers, one with few and small biases.
       gq_.array() += sparsity_ * Hq_.diagonal().mean();
     }
-    lq_ = e.lower / s;
-    uq_ = e.upper / s;
-    e.qp = solver_->solve(Hq_, gq_, lq_, uq_);
-    if (!e.qp.ok() || !solver_->x().allFinite()) {
-      e.flags |= kFlagQpFailed;
-      e.bias.setZero();
-      return e;
-    }
-    e.bias = s * solver_->x();
-    e.bias = e.bias.cwiseMax(e.lower).cwiseMin(e.upper);
-    return e;
+    return solve_scaled(s, e);
   }
 
   /// Eqs. (12)-(15) referenced to the tracker's prediction (file comment, second form): r = innovation
@@ -380,17 +370,7 @@ class BiasEstimator {
     nlosloc::detail::symmetrize(Hq_);
     gq_.noalias() = Svg_ * innovation;
     gq_ *= -2.0 * s;
-    lq_ = e.lower / s;
-    uq_ = e.upper / s;
-    e.qp = solver_->solve(Hq_, gq_, lq_, uq_);
-    if (!e.qp.ok() || !solver_->x().allFinite()) {
-      e.flags |= kFlagQpFailed;
-      e.bias.setZero();
-      return e;
-    }
-    e.bias = s * solver_->x();
-    e.bias = e.bias.cwiseMax(e.lower).cwiseMin(e.upper);
-    return e;
+    return solve_scaled(s, e);
   }
 
   /// Weight of the L1 tie-break added to eq. (14) (relative to the mean Hessian diagonal; 0 = the plain
@@ -415,6 +395,22 @@ class BiasEstimator {
   const VecX& qp_gradient() const { return gq_; }    ///< QP linear term in the scaled variables
 
  private:
+  /// Solves the QP in u = b / s (Hq_, gq_ set by the caller) within the eq. (15) box of e and writes
+  /// b = s u, clamped to the box, into e; on solver failure b = 0 and kFlagQpFailed.
+  BiasEstimate& solve_scaled(double s, BiasEstimate& e) {
+    lq_ = e.lower / s;
+    uq_ = e.upper / s;
+    e.qp = solver_->solve(Hq_, gq_, lq_, uq_);
+    if (!e.qp.ok() || !solver_->x().allFinite()) {
+      e.flags |= kFlagQpFailed;
+      e.bias.setZero();
+      return e;
+    }
+    e.bias = s * solver_->x();
+    e.bias = e.bias.cwiseMax(e.lower).cwiseMin(e.upper);
+    return e;
+  }
+
   // Eq. (15): b_i^U = min_j (z_i + z_j - l_ij); eq. (14): b_i^L = 0. Documented clamp when b^U < b^L.
   template <class DZ>
   void upper_bounds(const Eigen::MatrixBase<DZ>& z, BiasEstimate& e) const {
