@@ -22,6 +22,25 @@
 
 namespace nlosloc::sim {
 
+/// Shared truth draw of K1-K3: the initial belief (mean = truth + initial_std noise, drawn first so a
+/// shorter run is a prefix of a longer one) and the diagonal initial covariance.
+template <class D>
+void ke_wu_initial_belief(const Vec<4>& x, const Vec<4>& initial_std, Rng& rng, D& d) {
+  d.initial_mean.resize(4);
+  for (int i = 0; i < 4; ++i) d.initial_mean[i] = x[i] + initial_std[i] * rng.normal();
+  d.initial_cov = initial_std.array().square().matrix().asDiagonal();
+}
+/// Ke & Wu eqs. (16)-(17): S(k) = Phi S(k-1) + Gamma W(k), W ~ N(0, diag(sigma_x^2, sigma_y^2)) with
+/// sigma = sa (m/s^2).
+inline void ke_wu_advance(const ConstantVelocity2& motion, double sa, double dt, Rng& rng, Vec<4>& x) {
+  const double ax = sa * rng.normal(), ay = sa * rng.normal();
+  x = motion.F() * x;
+  x[0] += 0.5 * dt * dt * ax;
+  x[1] += 0.5 * dt * dt * ay;
+  x[2] += dt * ax;
+  x[3] += dt * ay;
+}
+
 /// Parameters of K1; defaults are the paper's (Sec. 6 and 6.1) plus the choices listed by K1::choices().
 struct K1Params {
   Mat<3, 2> anchors = (Mat<3, 2>() << 0, 0, 8600, 0, 4300, 7500).finished();  ///< Sec. 6, fixed nodes (m)
@@ -152,21 +171,11 @@ class K1 : public Scenario {
     Vec<4> x;
     x << p_.start, p_.velocity;
     // Initial belief first, so a shorter draw is a prefix of a longer one.
-    d.initial_mean.resize(4);
-    for (int i = 0; i < 4; ++i) d.initial_mean[i] = x[i] + p_.initial_std[i] * rng.normal();
-    d.initial_cov = p_.initial_std.array().square().matrix().asDiagonal();
+    ke_wu_initial_belief(x, p_.initial_std, rng, d);
 
     const double sa = std::sqrt(p_.accel_var), dt = p_.dt;
     for (int k = 0; k < T; ++k) {
-      if (k > 0) {
-        // Ke & Wu eq. (16)-(17): S(k) = Phi S(k-1) + Gamma W(k), W ~ N(0, diag(sigma_x^2, sigma_y^2)).
-        const double ax = sa * rng.normal(), ay = sa * rng.normal();
-        x = motion_.F() * x;
-        x[0] += 0.5 * dt * dt * ax;
-        x[1] += 0.5 * dt * dt * ay;
-        x[2] += dt * ax;
-        x[3] += dt * ay;
-      }
+      if (k > 0) ke_wu_advance(motion_, sa, dt, rng, x);  // Ke & Wu eqs. (16)-(17)
       d.states.row(k) = x.transpose();
       d.positions.row(k) = x.head<2>().transpose();
       for (int b = 0; b < B; ++b) {

@@ -87,20 +87,10 @@ class K2 : public Scenario {
     d.quality.setConstant(T, B, std::numeric_limits<double>::quiet_NaN());
     Vec<4> x;
     x << p.start, p.velocity;
-    d.initial_mean.resize(4);
-    for (int i = 0; i < 4; ++i) d.initial_mean[i] = x[i] + p.initial_std[i] * rng.normal();
-    d.initial_cov = p.initial_std.array().square().matrix().asDiagonal();
+    ke_wu_initial_belief(x, p.initial_std, rng, d);
     const double sa = std::sqrt(p.accel_var), dt = p.dt;
     for (int k = 0; k < T; ++k) {
-      if (k > 0) {
-        // Ke & Wu eq. (16)-(17).
-        const double ax = sa * rng.normal(), ay = sa * rng.normal();
-        x = motion_.F() * x;
-        x[0] += 0.5 * dt * dt * ax;
-        x[1] += 0.5 * dt * dt * ay;
-        x[2] += dt * ax;
-        x[3] += dt * ay;
-      }
+      if (k > 0) ke_wu_advance(motion_, sa, dt, rng, x);  // Ke & Wu eqs. (16)-(17)
       d.states.row(k) = x.transpose();
       d.positions.row(k) = x.head<2>().transpose();
       const bool nlos = nlos_at(k);
