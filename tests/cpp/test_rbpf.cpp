@@ -3,7 +3,9 @@
 // thread pool, systematic resampling (unbiased) and the joint PF.
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <functional>
 #include <map>
+#include <numeric>
 #include <set>
 
 #include "nlosloc/filters/ukf.hpp"
@@ -66,6 +68,39 @@ TEST_CASE("merge rule on hand-built particle sets (eqs. 29-30)", "[rbpf][merge]"
   CHECK_THAT(default_merge_threshold(12.8, 128), WithinRel(0.01, 1e-14));  // eq. (31)
 }
 
+TEST_CASE("merge visiting order: the radix grouping equals the comparison sort", "[rbpf][merge]") {
+  // n above kRadixMin: keys with many repeats (full 64-bit range, shared high and low digits), weights
+  // with ties; the visiting order must be exactly by key, then weight descending, then index.
+  for (int n : {MergeWorkspace::kRadixMin, 20000}) {
+    Rng rng(static_cast<std::uint64_t>(n));
+    std::vector<std::uint64_t> key(static_cast<std::size_t>(n));
+    std::vector<double> lw(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      key[static_cast<std::size_t>(i)] = (rng.below(50) << 40) * 0x9E3779B97F4A7C15ULL + rng.below(3);
+      lw[static_cast<std::size_t>(i)] = i % 7 == 0 ? -1.0 : std::log(rng.uniform());
+    }
+    std::vector<int> ref(static_cast<std::size_t>(n));
+    std::iota(ref.begin(), ref.end(), 0);
+    std::sort(ref.begin(), ref.end(), [&](int a, int b) {
+      const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
+      if (key[ua] != key[ub]) return key[ua] < key[ub];
+      if (lw[ua] != lw[ub]) return lw[ua] > lw[ub];
+      return a < b;
+    });
+    MergeWorkspace ws;
+    nlosloc::rbpf::detail::merge_order(key.data(), lw.data(), n, ws);
+    CHECK(ws.order == ref);
+    // all keys equal: every radix digit is constant (passes skipped), order by weight only
+    std::vector<std::uint64_t> same(static_cast<std::size_t>(n), 0x0123456789ABCDEFULL);
+    nlosloc::rbpf::detail::merge_order(same.data(), lw.data(), n, ws);
+    std::sort(ref.begin(), ref.end(), [&](int a, int b) {
+      const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
+      return lw[ua] != lw[ub] ? lw[ua] > lw[ub] : a < b;
+    });
+    CHECK(ws.order == ref);
+  }
+}
+
 TEST_CASE("offspring counts and the bounded enumeration", "[rbpf][offspring]") {
   CHECK(situation_count(2, 6) == 64);
   CHECK(situation_count(3, 4) == 81);
@@ -93,12 +128,32 @@ TEST_CASE("offspring counts and the bounded enumeration", "[rbpf][offspring]") {
     CHECK(keys.size() == total);
     // bounded: the K best are exactly the K largest of the full enumeration ...
     std::sort(all.begin(), all.end(), [](auto& a, auto& b) { return a.first > b.first; });
+    BestFirstWorkspace shared;
     for (std::uint64_t K : {std::uint64_t{1}, std::uint64_t{5}, std::uint64_t{17}}) {
       std::vector<std::pair<double, std::uint64_t>> best;
       enumerate_best(A, K, [&](std::uint64_t k, double s) { best.emplace_back(s, k); });
       REQUIRE(best.size() == K);
       for (std::size_t i = 0; i < K; ++i) CHECK_THAT(best[i].first, WithinAbs(all[i].first, 1e-12));
+      // a reused workspace gives the same sequence (the RBPF keeps one per thread)
+      std::vector<std::pair<double, std::uint64_t>> again;
+      enumerate_best(A, K, shared, [&](std::uint64_t k, double s) { again.emplace_back(s, k); });
+      CHECK(again == best);
     }
+    // ties (equal factors for every condition of anchor 0): the K best sums are still exact
+    MatX At = A;
+    At.row(0).setConstant(-0.5);
+    std::vector<double> tall;
+    enumerate_all(At, [&](std::uint64_t, double s) { tall.push_back(s); });
+    std::sort(tall.begin(), tall.end(), std::greater<double>());
+    std::vector<double> tbest;
+    std::set<std::uint64_t> tkeys;
+    enumerate_best(At, 9, shared, [&](std::uint64_t k, double s) {
+      tbest.push_back(s);
+      tkeys.insert(k);
+    });
+    REQUIRE(tbest.size() == 9);
+    CHECK(tkeys.size() == 9);
+    for (std::size_t i = 0; i < 9; ++i) CHECK_THAT(tbest[i], WithinAbs(tall[i], 1e-12));
     // ... and with K >= N_z^B it equals the full one (same set of keys and sums)
     std::set<std::uint64_t> kb;
     enumerate_offspring(A, total + 3, [&](std::uint64_t k, double) { kb.insert(k); });

@@ -60,6 +60,7 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
     speeds_.setZero(meas.num_anchors());
     Pi_.setZero(m, nz);
     onehot_.setZero(meas.num_anchors(), nz);
+    fwd_.save(fsave_);  // sizes the snapshot buffers
   }
 
   /// predict(); forward filter step with o (size B, NaN = missing; transversal speeds from the predicted
@@ -70,7 +71,7 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
     const auto x0 = this->x_;
     const auto P0 = this->P_;
     const double t0 = this->t_;
-    const situation::ForwardFilter f0 = fwd_;
+    fwd_.save(fsave_);  // preallocated: no copy of the chains
     this->predict();
     try {
       if (fwd_.process().speed_dependent()) {
@@ -84,7 +85,7 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
       this->x_ = x0;
       this->P_ = P0;
       this->t_ = t0;
-      fwd_ = f0;
+      fwd_.restore(fsave_);
       throw;
     }
   }
@@ -157,6 +158,7 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
 
   Meas meas_;
   situation::ForwardFilter fwd_;
+  situation::ForwardFilter::Snapshot fsave_;  // step_quality restores it if the update throws
   SigmaScheme scheme_;
   SigmaWeights w_;
   detail::SigmaMoments<kDim> mom_;

@@ -33,10 +33,78 @@ inline double default_merge_threshold(double position_variance, int num_particle
   return position_variance / (10.0 * static_cast<double>(num_particles));  // eq. (31)
 }
 
-/// Reusable buffers of the merge (sized on first use, reused afterwards).
+/// Reusable buffers of the merge (sized on first use, reused afterwards; reserve(n) sizes them up front so
+/// a merge of up to n particles does not allocate).
 struct MergeWorkspace {
-  std::vector<int> order;
+  std::vector<int> order, tmp_order;
+  std::vector<std::uint64_t> sorted_keys, tmp_keys;
+  std::vector<int> count;  // radix histogram
+  static constexpr int kRadixBits = 11;
+  /// Above this size the grouping uses the LSD radix sort (linear) instead of a comparison sort.
+  static constexpr int kRadixMin = 4096;
+  void reserve(std::size_t n) {
+    order.reserve(n);
+    if (n >= static_cast<std::size_t>(kRadixMin)) {
+      tmp_order.reserve(n);
+      sorted_keys.reserve(n);
+      tmp_keys.reserve(n);
+      count.reserve(std::size_t{1} << kRadixBits);
+    }
+  }
 };
+
+namespace detail {
+/// ws.order = 0..n-1 grouped by key (ascending), heaviest first within a group, ties by index: the order
+/// the greedy merge visits. Small n: one comparison sort. Large n (the PF's 1e6 particles): a stable LSD
+/// radix sort on the 64-bit keys (indices stay ascending inside a group), then each group of two or more
+/// sorted by weight: linear in n instead of n log n with scattered key/weight reads.
+inline void merge_order(const std::uint64_t* keys, const double* logw, int n, MergeWorkspace& ws) {
+  const auto N = static_cast<std::size_t>(n);
+  ws.order.resize(N);
+  auto heavier = [&](int a, int b) { return logw[a] != logw[b] ? logw[a] > logw[b] : a < b; };
+  if (n < MergeWorkspace::kRadixMin) {
+    std::iota(ws.order.begin(), ws.order.end(), 0);
+    std::sort(ws.order.begin(), ws.order.end(),
+              [&](int a, int b) { return keys[a] != keys[b] ? keys[a] < keys[b] : heavier(a, b); });
+    return;
+  }
+  constexpr int kBits = MergeWorkspace::kRadixBits;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
+  ws.tmp_order.resize(N);
+  ws.sorted_keys.resize(N);
+  ws.tmp_keys.resize(N);
+  ws.count.resize(kBuckets);
+  std::iota(ws.order.begin(), ws.order.end(), 0);
+  std::copy(keys, keys + n, ws.sorted_keys.begin());
+  for (int shift = 0; shift < 64; shift += kBits) {
+    std::fill(ws.count.begin(), ws.count.end(), 0);
+    for (std::size_t i = 0; i < N; ++i) ++ws.count[(ws.sorted_keys[i] >> shift) & (kBuckets - 1)];
+    if (ws.count[(ws.sorted_keys[0] >> shift) & (kBuckets - 1)] == n) continue;  // one digit: no move
+    int sum = 0;
+    for (auto& c : ws.count) {
+      const int v = c;
+      c = sum;
+      sum += v;
+    }
+    for (std::size_t i = 0; i < N; ++i) {
+      const std::uint64_t key = ws.sorted_keys[i];
+      const auto dst = static_cast<std::size_t>(ws.count[(key >> shift) & (kBuckets - 1)]++);
+      ws.tmp_keys[dst] = key;
+      ws.tmp_order[dst] = ws.order[i];
+    }
+    ws.sorted_keys.swap(ws.tmp_keys);
+    ws.order.swap(ws.tmp_order);
+  }
+  for (std::size_t g0 = 0; g0 < N;) {
+    std::size_t g1 = g0 + 1;
+    while (g1 < N && ws.sorted_keys[g1] == ws.sorted_keys[g0]) ++g1;
+    if (g1 - g0 > 1)
+      std::sort(ws.order.begin() + static_cast<std::ptrdiff_t>(g0),
+                ws.order.begin() + static_cast<std::ptrdiff_t>(g1), heavier);
+    g0 = g1;
+  }
+}
+}  // namespace detail
 
 /// Greedy merge (eqs. 29-30) of n particles with situation keys `keys`, log weights `logw` (modified in
 /// place: absorbed particles get -inf). close(a, b) says whether ||x_a - x_b|| < d_min (only asked for
@@ -44,14 +112,8 @@ struct MergeWorkspace {
 template <class Close>
 int merge_greedy(const std::uint64_t* keys, double* logw, int n, Close&& close, MergeWorkspace& ws) {
   constexpr double kNegInf = -std::numeric_limits<double>::infinity();
-  ws.order.resize(static_cast<std::size_t>(n));
-  std::iota(ws.order.begin(), ws.order.end(), 0);
-  // Group by key, heaviest first within a group (ties by index): deterministic.
-  std::sort(ws.order.begin(), ws.order.end(), [&](int a, int b) {
-    if (keys[a] != keys[b]) return keys[a] < keys[b];
-    if (logw[a] != logw[b]) return logw[a] > logw[b];
-    return a < b;
-  });
+  if (n <= 0) return 0;
+  detail::merge_order(keys, logw, n, ws);  // by key, heaviest first within a group (ties by index)
   int absorbed = 0;
   std::size_t g0 = 0;
   const auto N = static_cast<std::size_t>(n);

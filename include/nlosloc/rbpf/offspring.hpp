@@ -6,16 +6,13 @@
 ///
 /// Bounded enumeration: when N_z^B exceeds a limit K, only the K children with the largest prior factor
 /// are generated, exactly, by a best-first search over the per-anchor factors (the factor is a product
-/// over anchors, so the K best vectors are found without visiting the others). With K >= N_z^B it is the
-/// full enumeration (same set); in the classical RBPF the UKF likelihood of a child is only known after
-/// its UKF, so the bound ranks by prior times quality likelihood.
+/// over anchors, so the K best vectors are found without visiting the others), in preallocated buffers. With
+/// K >= N_z^B it is the full enumeration (same set); in the classical RBPF the UKF likelihood of a child is
+/// only known after its UKF, so the bound ranks by prior times quality likelihood.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <functional>
-#include <queue>
 #include <string>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -80,69 +77,105 @@ void enumerate_all(const MatX& A, Emit&& emit) {
   }
 }
 
-/// Calls emit(key, sum) for the `limit` situation vectors with the largest sum_b A(b, s_b), in decreasing
-/// order (exact best-first search: each anchor's options sorted by factor, a heap of rank vectors, visited
-/// set to avoid repeats). limit >= N_z^B gives every vector.
-template <class Emit>
-void enumerate_best(const MatX& A, std::uint64_t limit, Emit&& emit) {
-  const int B = static_cast<int>(A.rows()), nz = static_cast<int>(A.cols());
-  std::vector<std::vector<int>> order(static_cast<std::size_t>(B));
-  for (int b = 0; b < B; ++b) {
-    auto& o = order[static_cast<std::size_t>(b)];
-    o.resize(static_cast<std::size_t>(nz));
-    for (int z = 0; z < nz; ++z) o[static_cast<std::size_t>(z)] = z;
-    std::stable_sort(o.begin(), o.end(), [&](int p, int q) { return A(b, p) > A(b, q); });
+/// One node of the best-first search: a rank vector (rank r_b of anchor b's option, base-N_z encoded like
+/// a key), its sum, and the highest anchor whose rank is non-zero (0 for the root).
+struct BestFirstNode {
+  double sum;
+  std::uint64_t ranks;
+  int last;
+};
+
+/// Reusable buffers of enumerate_best. reserve(B, N_z, limit) sizes them once; the search then never
+/// allocates for those sizes (the RBPF keeps one per thread so its step does no heap allocation).
+struct BestFirstWorkspace {
+  std::vector<int> order;            // B x N_z: anchor b's options by decreasing factor (row b)
+  std::vector<BestFirstNode> heap;   // open nodes; at most 1 + limit * B are ever pushed
+  std::vector<std::uint64_t> power;  // N_z^b
+  void reserve(int B, int nz, std::uint64_t limit) {
+    order.reserve(static_cast<std::size_t>(B) * static_cast<std::size_t>(nz));
+    power.reserve(static_cast<std::size_t>(B));
+    heap.reserve(static_cast<std::size_t>(1 + limit * static_cast<std::uint64_t>(B)));
   }
-  // A node is a rank vector, encoded base N_z like a key (rank r_b of anchor b).
-  auto node_sum = [&](const std::vector<int>& r) {
-    double s = 0.0;
-    for (int b = 0; b < B; ++b)
-      s += A(b, order[static_cast<std::size_t>(b)][static_cast<std::size_t>(r[static_cast<std::size_t>(b)])]);
-    return s;
+};
+
+/// Calls emit(key, sum) for the `limit` situation vectors with the largest sum_b A(b, s_b), in decreasing
+/// order, ties by the smaller rank vector (exact best-first search). Each anchor's options are sorted by
+/// factor; a node's children raise the rank of one anchor b >= its `last`, so every rank vector has exactly
+/// one parent (lower its highest non-zero rank) whose sum is not smaller: a heap over this tree pops the
+/// vectors in decreasing order without a visited set. limit >= N_z^B gives every vector.
+template <class Emit>
+void enumerate_best(const MatX& A, std::uint64_t limit, BestFirstWorkspace& ws, Emit&& emit) {
+  const int B = static_cast<int>(A.rows()), nz = static_cast<int>(A.cols());
+  const auto unz = static_cast<std::uint64_t>(nz);
+  ws.order.resize(static_cast<std::size_t>(B) * static_cast<std::size_t>(nz));
+  ws.power.resize(static_cast<std::size_t>(B));
+  auto opt = [&](int b, int r) {
+    return ws.order[static_cast<std::size_t>(b) * static_cast<std::size_t>(nz) + static_cast<std::size_t>(r)];
   };
-  using Item = std::pair<double, std::vector<int>>;
-  auto cmp = [](const Item& a, const Item& b) { return a.first < b.first; };
-  std::priority_queue<Item, std::vector<Item>, decltype(cmp)> heap(cmp);
-  std::unordered_set<std::uint64_t> seen;
-  auto rank_key = [&](const std::vector<int>& r) {
-    std::uint64_t k = 0;
-    for (int b = B - 1; b >= 0; --b)
-      k = k * static_cast<std::uint64_t>(nz) + static_cast<std::uint64_t>(r[static_cast<std::size_t>(b)]);
-    return k;
+  for (int b = 0; b < B; ++b) {
+    auto* o = ws.order.data() + static_cast<std::size_t>(b) * static_cast<std::size_t>(nz);
+    // Stable insertion sort (N_z is small; std::stable_sort may allocate a buffer).
+    for (int z = 0; z < nz; ++z) {
+      int j = z;
+      for (; j > 0 && A(b, o[j - 1]) < A(b, z); --j) o[j] = o[j - 1];
+      o[j] = z;
+    }
+    ws.power[static_cast<std::size_t>(b)] = b == 0 ? 1 : ws.power[static_cast<std::size_t>(b - 1)] * unz;
+  }
+  // Max-heap by sum, then by the smaller rank vector (deterministic ties).
+  auto lower = [](const BestFirstNode& a, const BestFirstNode& b) {
+    return a.sum != b.sum ? a.sum < b.sum : a.ranks > b.ranks;
   };
-  std::vector<int> r0(static_cast<std::size_t>(B), 0);
-  heap.emplace(node_sum(r0), r0);
-  seen.insert(0);
+  ws.heap.clear();
+  double root = 0.0;
+  for (int b = 0; b < B; ++b) root += A(b, opt(b, 0));
+  ws.heap.push_back({root, 0, 0});
   std::uint64_t emitted = 0;
-  while (!heap.empty() && emitted < limit) {
-    Item it = heap.top();
-    heap.pop();
-    std::uint64_t key = 0;
-    for (int b = B - 1; b >= 0; --b)
-      key =
-          key * static_cast<std::uint64_t>(nz) +
-          static_cast<std::uint64_t>(order[static_cast<std::size_t>(b)]
-                                          [static_cast<std::size_t>(it.second[static_cast<std::size_t>(b)])]);
-    emit(key, it.first);
-    ++emitted;
+  while (!ws.heap.empty() && emitted < limit) {
+    std::pop_heap(ws.heap.begin(), ws.heap.end(), lower);
+    const BestFirstNode it = ws.heap.back();
+    ws.heap.pop_back();
+    std::uint64_t key = 0, rest = it.ranks;
     for (int b = 0; b < B; ++b) {
-      auto& rb = it.second[static_cast<std::size_t>(b)];
-      if (rb + 1 >= nz) continue;
-      ++rb;
-      if (seen.insert(rank_key(it.second)).second) heap.emplace(node_sum(it.second), it.second);
-      --rb;
+      key += ws.power[static_cast<std::size_t>(b)] *
+             static_cast<std::uint64_t>(opt(b, static_cast<int>(rest % unz)));
+      rest /= unz;
+    }
+    emit(key, it.sum);
+    ++emitted;
+    for (int b = it.last; b < B; ++b) {
+      const int r = static_cast<int>((it.ranks / ws.power[static_cast<std::size_t>(b)]) % unz);
+      if (r + 1 >= nz) continue;
+      ws.heap.push_back({it.sum - A(b, opt(b, r)) + A(b, opt(b, r + 1)),
+                         it.ranks + ws.power[static_cast<std::size_t>(b)], b});
+      std::push_heap(ws.heap.begin(), ws.heap.end(), lower);
     }
   }
 }
 
-/// Enumerates the children of one particle: all N_z^B when N_z^B <= limit, else the `limit` best (above).
+/// enumerate_best with its own (allocated) workspace.
 template <class Emit>
-void enumerate_offspring(const MatX& A, std::uint64_t limit, Emit&& emit) {
+void enumerate_best(const MatX& A, std::uint64_t limit, Emit&& emit) {
+  BestFirstWorkspace ws;
+  enumerate_best(A, limit, ws, std::forward<Emit>(emit));
+}
+
+/// Enumerates the children of one particle: all N_z^B when N_z^B <= limit, else the `limit` best (above).
+/// `ws` serves the bounded case (see BestFirstWorkspace::reserve).
+template <class Emit>
+void enumerate_offspring(const MatX& A, std::uint64_t limit, BestFirstWorkspace& ws, Emit&& emit) {
   const std::uint64_t total = situation_count(static_cast<int>(A.cols()), static_cast<int>(A.rows()));
   if (total != 0 && total <= limit)
     enumerate_all(A, std::forward<Emit>(emit));
   else
-    enumerate_best(A, limit, std::forward<Emit>(emit));
+    enumerate_best(A, limit, ws, std::forward<Emit>(emit));
+}
+
+/// enumerate_offspring with its own workspace.
+template <class Emit>
+void enumerate_offspring(const MatX& A, std::uint64_t limit, Emit&& emit) {
+  BestFirstWorkspace ws;
+  enumerate_offspring(A, limit, ws, std::forward<Emit>(emit));
 }
 
 }  // namespace nlosloc::rbpf

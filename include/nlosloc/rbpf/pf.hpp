@@ -8,8 +8,8 @@
 ///
 /// Layout: structure of arrays (state component d of particle i at x[d * M + i], anchor b's condition at
 /// s[b * M + i]), double buffers (the moved states and the resampled set are written to the second one),
-/// all allocated at construction: step() does not allocate (except the optional merge, which sorts in
-/// preallocated buffers).
+/// all allocated at construction: step() does not allocate (the optional merge sorts in preallocated
+/// buffers).
 ///
 /// Speed (issue #3): one pass over the particles per step, in blocks on the thread pool, with bulk random
 /// numbers (BatchRng), a square-root- and division-free sight switching test, SIMD packets (Eigen's
@@ -236,7 +236,7 @@ class ParticleFilter {
     y_.resize(meas.rows());
     if (options.resampling == PfResampling::kMergeSelect) {
       mkey_.resize(M);
-      morder_.resize(M);
+      mws_.reserve(static_cast<std::size_t>(M));
     }
     reset(initial, t0);
   }
@@ -1062,7 +1062,6 @@ class ParticleFilter {
   MatX Lq_, T_, prob_;
   VecX y_;
   std::vector<std::uint64_t> mkey_;
-  std::vector<int> morder_;
   MergeWorkspace mws_;
   State est_ = State::Zero(), centre_ = State::Zero();
   mutable Cov est_cov_ = Cov::Zero();

@@ -126,6 +126,7 @@ class Rbpf {
     xpred_.resize(static_cast<std::size_t>(M));
     adj_.resize(static_cast<std::size_t>(M) * static_cast<std::size_t>(M));
     sel_.reserve(cap);
+    mws_.reserve(cap);
     sub_.reserve(cap);
     sub_key_.reserve(cap);
     sub_logw_.reserve(cap);
@@ -143,6 +144,8 @@ class Rbpf {
       w->speeds.setZero(B_);
       w->s.setZero(B_);
       w->cand.reserve(static_cast<std::size_t>(M));
+      if (static_cast<std::uint64_t>(per_parent_) < total)
+        w->best.reserve(B_, nz_, static_cast<std::uint64_t>(per_parent_));
       work_.push_back(std::move(w));
     }
     thread_fail_.assign(static_cast<std::size_t>(pool_->size()), 0);
@@ -256,7 +259,8 @@ class Rbpf {
     MatX T;
     VecX speeds;
     VecXi s;
-    std::vector<int> cand;  // top-M children of this thread's share of the parents without a neighbour
+    std::vector<int> cand;    // top-M children of this thread's share of the parents without a neighbour
+    BestFirstWorkspace best;  // bounded enumeration (reserved at construction when it is used)
   };
 
   /// A(b, z) = log P(s_b,t = z | s_b,t-1) + log p(o_b | z) for parent p (eqs. 9, 25, 32).
@@ -283,12 +287,13 @@ class Rbpf {
 
   /// Writes parent p's children into off_* at [p * per, (p + 1) * per) (eq. 23; weights of eq. 32 / first
   /// factors of eq. 25) and offers each to `top` when given.
-  void emit_children(int p, TopSelector* top, double floor = -std::numeric_limits<double>::infinity()) {
+  void emit_children(int p, ThreadWork& w, TopSelector* top,
+                     double floor = -std::numeric_limits<double>::infinity()) {
     const int per = per_parent_;
     const double base = logw_[static_cast<std::size_t>(p)];
     auto u = static_cast<std::size_t>(p) * static_cast<std::size_t>(per);
     const std::size_t end = u + static_cast<std::size_t>(per);
-    enumerate_offspring(apar_[static_cast<std::size_t>(p)], static_cast<std::uint64_t>(per),
+    enumerate_offspring(apar_[static_cast<std::size_t>(p)], static_cast<std::uint64_t>(per), w.best,
                         [&](std::uint64_t key, double s) {
                           off_parent_[u] = p;
                           off_key_[u] = key;
@@ -309,7 +314,7 @@ class Rbpf {
       ThreadWork& w = *work_[static_cast<std::size_t>(th)];
       for (int p = pb; p < pe; ++p) {
         parent_factors(p, k, w, apar_[static_cast<std::size_t>(p)]);
-        emit_children(p, nullptr);
+        emit_children(p, w, nullptr);
       }
     });
     return count_ * per_parent_;
@@ -357,10 +362,12 @@ class Rbpf {
             }
           }
         const auto u = 3 * static_cast<std::size_t>(p);
-        known_[u] = near_[static_cast<std::size_t>(p)] ? -kInf : bp;
-        known_[u + 1] = near_[static_cast<std::size_t>(p)] ? -kInf : bp - g1;
-        known_[u + 2] = near_[static_cast<std::size_t>(p)] ? -kInf : bp - g2;
-        if (near_[static_cast<std::size_t>(p)]) emit_children(p, nullptr);
+        // The i-th heaviest emitted child weighs at least the i-th known one (i <= children emitted).
+        const bool skip = near_[static_cast<std::size_t>(p)] != 0;
+        known_[u] = skip ? -kInf : bp;
+        known_[u + 1] = skip || per_parent_ < 2 ? -kInf : bp - g1;
+        known_[u + 2] = skip || per_parent_ < 3 ? -kInf : bp - g2;
+        if (near_[static_cast<std::size_t>(p)]) emit_children(p, w, nullptr);
       }
     });
     // tau: the M-th largest of those known weights (of distinct children of parents without a
@@ -387,7 +394,8 @@ class Rbpf {
     const int T = pool_->size();
     pool_->parallel_for(T, [&](int tb, int te, int) {
       for (int th = tb; th < te; ++th) {
-        TopSelector top(off_logw_.data(), static_cast<int>(M), work_[static_cast<std::size_t>(th)]->cand);
+        ThreadWork& w = *work_[static_cast<std::size_t>(th)];
+        TopSelector top(off_logw_.data(), static_cast<int>(M), w.cand);
         for (std::size_t j = static_cast<std::size_t>(th); j < porder_.size();
              j += static_cast<std::size_t>(T)) {
           const int p = porder_[j];
@@ -395,7 +403,7 @@ class Rbpf {
           const double bp = best_[static_cast<std::size_t>(p)];
           if (bp + 1e-9 * (1.0 + std::abs(bp)) < tau) break;
           if (top.full() && bp + 1e-9 * (1.0 + std::abs(bp)) < top.threshold()) break;
-          emit_children(p, &top, tau);
+          emit_children(p, w, &top, tau);
         }
       }
     });
@@ -467,10 +475,9 @@ class Rbpf {
     select_top_of(
         off_logw_.data(), static_cast<int>(cand_.size()),
         [this](int j) { return cand_[static_cast<std::size_t>(j)]; }, opt_.num_particles, sel_);
-    // Group the survivors by parent so each parent's sigma points are computed once per thread.
-    std::stable_sort(sel_.begin(), sel_.end(), [&](int a, int b) {
-      return off_parent_[static_cast<std::size_t>(a)] < off_parent_[static_cast<std::size_t>(b)];
-    });
+    // Group the survivors by parent so each parent's sigma points are computed once per thread: a
+    // child's index is parent * per + rank, so index order groups them (std::sort: no buffer allocated).
+    std::sort(sel_.begin(), sel_.end());
     const int ns = static_cast<int>(sel_.size());
     info.ukf_runs = ns;
     run_bank(

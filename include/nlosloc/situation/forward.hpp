@@ -103,6 +103,27 @@ class ForwardFilter {
     return update(o);
   }
 
+  /// The mutable part of the filter (probabilities, step, evidence): lets an embedding filter undo a step
+  /// without copying the chains. A Snapshot filled once keeps its buffers: later saves do not allocate.
+  struct Snapshot {
+    MatX gamma, pred;
+    long k = 0;
+    double log_evidence = 0.0;
+  };
+  void save(Snapshot& s) const {
+    s.gamma = gamma_;
+    s.pred = pred_;
+    s.k = k_;
+    s.log_evidence = log_evidence_;
+  }
+  /// Restores a snapshot saved from this filter.
+  void restore(const Snapshot& s) {
+    gamma_ = s.gamma;
+    pred_ = s.pred;
+    k_ = s.k;
+    log_evidence_ = s.log_evidence;
+  }
+
   /// gamma (B x N_z): P(s_b = k | o_b,1:t) after the last update (eq. 35).
   const MatX& probabilities() const { return gamma_; }
   /// Predicted probabilities gamma_{t|t-1} of the last predict (eq. 36).
