@@ -3,6 +3,7 @@
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include "bind.hpp"
 #include "nlosloc/core/cholesky.hpp"
@@ -35,8 +36,53 @@ void bind_core(py::module_& m) {
           },
           py::arg("n"), "Array of `n` standard normal draws, shape (n,).")
       .def("below", &Rng::below, py::arg("n"), "Uniform integer in [0, n).")
+      .def("jump", &Rng::jump,
+           "Advances the generator by 2^128 draws (xoshiro256 jump): non-overlapping subsequences.")
+      .def("state", &Rng::state, "The four 64-bit words of the xoshiro256 state.")
       .def(
           "__call__", [](Rng& r) { return r(); }, "Next raw 64-bit output.");
+
+  py::class_<BatchRng>(
+      m, "BatchRng",
+      "Bulk generator of the particle filter: 4 xoshiro256++ lanes in lockstep, lane l being "
+      "the parent Rng jumped l + 1 times (the parent is not advanced).")
+      .def(py::init<Rng>(), py::arg("parent"), "Lanes derived from `parent` by jumps.")
+      .def(
+          "bits",
+          [](BatchRng& r, py::ssize_t n_quads) {
+            if (n_quads < 0 || n_quads > (py::ssize_t{1} << 28))
+              throw std::invalid_argument("n_quads: expected 0 <= n_quads <= 2^28, got " +
+                                          std::to_string(n_quads));
+            py::array_t<std::uint64_t> out(4 * n_quads);
+            r.fill_bits(out.mutable_data(), static_cast<int>(n_quads));
+            return out;
+          },
+          py::arg("n_quads"),
+          "4 * n_quads raw words, shape (4 n_quads,): word 4 j + l is lane l's j-th output.")
+      .def(
+          "uniforms",
+          [](BatchRng& r, py::ssize_t n) {
+            if (n < 0 || n % BatchRng::kLanes != 0 || n > (py::ssize_t{1} << 30))
+              throw std::invalid_argument("n: expected a multiple of 4 in [0, 2^30], got " +
+                                          std::to_string(n));
+            py::array_t<double> out(n);
+            r.fill_uniform(out.mutable_data(), static_cast<int>(n));
+            return out;
+          },
+          py::arg("n"), "n uniforms in (0, 1) with 52 random bits each, n a multiple of 4; shape (n,).")
+      .def(
+          "normals",
+          [](BatchRng& r, py::ssize_t n) {
+            if (n < 0 || n > (py::ssize_t{1} << 30))
+              throw std::invalid_argument("n: expected 0 <= n <= 2^30, got " + std::to_string(n));
+            py::array_t<double> out(n);
+            r.fill_normal(out.mutable_data(), static_cast<int>(n));
+            return out;
+          },
+          py::arg("n"), "n standard normal variates (ziggurat, Marsaglia and Tsang 2000); shape (n,).")
+      .def("uniform", &BatchRng::uniform, "One uniform in (0, 1) with 53 random bits.")
+      .def(
+          "__call__", [](BatchRng& r) { return r.next(); }, "Next raw 64-bit word.");
 
   py::class_<SigmaWeights>(m, "SigmaWeights", "Weights of a 2n+1 sigma-point set.")
       .def_readonly("gamma", &SigmaWeights::gamma, "Spread: points are mean +- gamma * L[:, i].")

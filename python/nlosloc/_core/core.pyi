@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['CholeskyStatus', 'NumericalError', 'Rng', 'SPEED_OF_LIGHT', 'SigmaScheme', 'SigmaWeights', 'log_sum_exp', 'robust_cholesky', 'sigma_points', 'wrap_angle']
+__all__: list[str] = ['BatchRng', 'CholeskyStatus', 'NumericalError', 'Rng', 'SPEED_OF_LIGHT', 'SigmaScheme', 'SigmaWeights', 'log_sum_exp', 'robust_cholesky', 'sigma_points', 'wrap_angle']
 class NumericalError(RuntimeError):
     """
     Raised when a step cannot be completed numerically (a covariance that is not positive definite even with the Cholesky fallback). The filter keeps the belief it had before the call.
@@ -26,6 +26,10 @@ class Rng:
         """
         Uniform integer in [0, n).
         """
+    def jump(self) -> None:
+        """
+        Advances the generator by 2^128 draws (xoshiro256 jump): non-overlapping subsequences.
+        """
     def normal(self) -> float:
         """
         Standard normal draw.
@@ -34,9 +38,41 @@ class Rng:
         """
         Array of `n` standard normal draws, shape (n,).
         """
+    def state(self) -> typing.Annotated[list[int], "FixedSize(4)"]:
+        """
+        The four 64-bit words of the xoshiro256 state.
+        """
     def uniform(self) -> float:
         """
         Uniform draw in the open interval (0, 1).
+        """
+class BatchRng:
+    """
+    Bulk generator of the particle filter: 4 xoshiro256++ lanes in lockstep, lane l being the parent Rng jumped l + 1 times (the parent is not advanced).
+    """
+    def __call__(self) -> int:
+        """
+        Next raw 64-bit word.
+        """
+    def __init__(self, parent: Rng) -> None:
+        """
+        Lanes derived from `parent` by jumps.
+        """
+    def bits(self, n_quads: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.uint64]:
+        """
+        4 * n_quads raw words, shape (4 n_quads,): word 4 j + l is lane l's j-th output.
+        """
+    def normals(self, n: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        n standard normal variates (ziggurat, Marsaglia and Tsang 2000); shape (n,).
+        """
+    def uniform(self) -> float:
+        """
+        One uniform in (0, 1) with 53 random bits.
+        """
+    def uniforms(self, n: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        n uniforms in (0, 1) with 52 random bits each, n a multiple of 4; shape (n,).
         """
 class SigmaWeights:
     """
