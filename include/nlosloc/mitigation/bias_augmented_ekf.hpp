@@ -47,7 +47,10 @@ struct BiasAugmentedEkfOptions {
 };
 
 /// Bias-augmented ("iterated NLOS") EKF, 2-D, M >= 1 TOA anchors; state size 4 + M. Buffers are sized at
-/// construction; a step does not allocate.
+/// construction; a step does not allocate. It does not use the shared detail::UpdateTail: that tail is
+/// fixed-size in the state (N known at compile time) and forms the innovation from y - z_hat, while this
+/// filter's state size depends on the anchor count and the iterated form's innovation is
+/// z - h(X_j) - H_j (X^- - X_j); a failed factorisation keeps the predicted belief (no jitter fallback).
 class BiasAugmentedEkf {
  public:
   /// motion: eq. (16); anchors M x 2; initial: belief of [x, y, vx, vy] (the biases start from the
