@@ -44,9 +44,9 @@ struct MergeWorkspace {
   static constexpr int kRadixMin = 4096;
   void reserve(std::size_t n) {
     order.reserve(n);
+    sorted_keys.reserve(n);
     if (n >= static_cast<std::size_t>(kRadixMin)) {
       tmp_order.reserve(n);
-      sorted_keys.reserve(n);
       tmp_keys.reserve(n);
       count.reserve(std::size_t{1} << kRadixBits);
     }
@@ -55,28 +55,31 @@ struct MergeWorkspace {
 
 namespace detail {
 /// ws.order = 0..n-1 grouped by key (ascending), heaviest first within a group, ties by index: the order
-/// the greedy merge visits. Small n: one comparison sort. Large n (the PF's 1e6 particles): a stable LSD
-/// radix sort on the 64-bit keys (indices stay ascending inside a group), then each group of two or more
-/// sorted by weight: linear in n instead of n log n with scattered key/weight reads.
+/// the greedy merge visits; ws.sorted_keys[i] = keys[ws.order[i]]. Small n: one comparison sort. Large n (the
+/// PF's 1e6 particles): a stable LSD radix sort on the 64-bit keys (indices stay ascending inside a group),
+/// then each group of two or more sorted by weight: linear in n instead of n log n with scattered key/weight
+/// reads.
 inline void merge_order(const std::uint64_t* keys, const double* logw, int n, MergeWorkspace& ws) {
   const auto N = static_cast<std::size_t>(n);
   ws.order.resize(N);
   auto heavier = [&](int a, int b) { return logw[a] != logw[b] ? logw[a] > logw[b] : a < b; };
+  ws.sorted_keys.resize(N);
   if (n < MergeWorkspace::kRadixMin) {
     std::iota(ws.order.begin(), ws.order.end(), 0);
     std::sort(ws.order.begin(), ws.order.end(),
               [&](int a, int b) { return keys[a] != keys[b] ? keys[a] < keys[b] : heavier(a, b); });
+    for (std::size_t i = 0; i < N; ++i) ws.sorted_keys[i] = keys[ws.order[i]];
     return;
   }
   constexpr int kBits = MergeWorkspace::kRadixBits;
   constexpr std::size_t kBuckets = std::size_t{1} << kBits;
   ws.tmp_order.resize(N);
-  ws.sorted_keys.resize(N);
   ws.tmp_keys.resize(N);
   ws.count.resize(kBuckets);
   std::iota(ws.order.begin(), ws.order.end(), 0);
-  std::copy(keys, keys + n, ws.sorted_keys.begin());
-  for (int shift = 0; shift < 64; shift += kBits) {
+  std::uint64_t used = 0;  // digits above the highest set bit of every key need no pass
+  for (std::size_t i = 0; i < N; ++i) used |= (ws.sorted_keys[i] = keys[i]);
+  for (int shift = 0; shift < 64 && (used >> shift) != 0; shift += kBits) {
     std::fill(ws.count.begin(), ws.count.end(), 0);
     for (std::size_t i = 0; i < N; ++i) ++ws.count[(ws.sorted_keys[i] >> shift) & (kBuckets - 1)];
     if (ws.count[(ws.sorted_keys[0] >> shift) & (kBuckets - 1)] == n) continue;  // one digit: no move
@@ -117,9 +120,14 @@ int merge_greedy(const std::uint64_t* keys, double* logw, int n, Close&& close, 
   int absorbed = 0;
   std::size_t g0 = 0;
   const auto N = static_cast<std::size_t>(n);
+  const std::uint64_t* sk = ws.sorted_keys.data();  // keys in visiting order: no scattered reads
   while (g0 < N) {
     std::size_t g1 = g0 + 1;
-    while (g1 < N && keys[ws.order[g1]] == keys[ws.order[g0]]) ++g1;
+    while (g1 < N && sk[g1] == sk[g0]) ++g1;
+    if (g1 - g0 == 1) {  // a particle alone in its group: nothing to merge
+      g0 = g1;
+      continue;
+    }
     for (std::size_t i = g0; i < g1; ++i) {
       const int a = ws.order[i];
       if (logw[a] == kNegInf) continue;  // absorbed (or impossible)

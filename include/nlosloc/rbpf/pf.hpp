@@ -994,6 +994,17 @@ class ParticleFilter {
     shift_ = 0.0;
   }
 
+  /// floor(q) as a cell number, without a libm call; |q| beyond 2^62 (a cell far outside any track) is
+  /// clamped, which only merges buckets (close() decides).
+  static std::uint64_t cell_index(double q) {
+    constexpr double kMax = 4.611686018427387904e18;  // 2^62
+    if (!(q < kMax)) q = kMax;
+    if (!(q > -kMax)) q = -kMax;
+    auto f = static_cast<std::int64_t>(q);  // truncation toward zero
+    f -= static_cast<std::int64_t>(q < static_cast<double>(f));
+    return static_cast<std::uint64_t>(f);
+  }
+
   /// Bucketed greedy merge (see the file comment); returns the number of absorbed particles.
   int merge_cells() {
     const auto& L = meas_.layout();
@@ -1001,14 +1012,17 @@ class ParticleFilter {
     const double d =
         opt_.merge_threshold >= 0.0 ? opt_.merge_threshold : default_merge_threshold(pos_var, M_);
     if (!(d > 0.0)) return 0;
-    for (int i = 0; i < M_; ++i) {
-      std::uint64_t h = 1469598103934665603ULL;  // FNV-1a over the situation and the grid cell
-      for (int b = 0; b < B_; ++b) h = (h ^ s_[sidx(b, i)]) * 1099511628211ULL;
-      for (int e = 0; e < N; ++e)
-        h = (h ^ static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x_[idx(e, i)] / d)))) *
-            1099511628211ULL;
-      mkey_[static_cast<std::size_t>(i)] = h;
-    }
+    const double inv_d = 1.0 / d;
+    // Bucket key: FNV-1a over the situation and the grid cell, folded to 32 bits (so the radix grouping
+    // needs 3 passes). A collision only puts two buckets in one group: close() still checks eq. (29).
+    pool_->parallel_for(M_, [&](int b0, int e0, int) {
+      for (int i = b0; i < e0; ++i) {
+        std::uint64_t h = 1469598103934665603ULL;
+        for (int b = 0; b < B_; ++b) h = (h ^ s_[sidx(b, i)]) * 1099511628211ULL;
+        for (int e = 0; e < N; ++e) h = (h ^ cell_index(x_[idx(e, i)] * inv_d)) * 1099511628211ULL;
+        mkey_[static_cast<std::size_t>(i)] = (h ^ (h >> 32)) & 0xFFFFFFFFULL;
+      }
+    });
     return merge_greedy(
         mkey_.data(), logw_.data(), M_,
         [&](int a, int b) {
