@@ -164,6 +164,59 @@ TEST_CASE("offspring counts and the bounded enumeration", "[rbpf][offspring]") {
   }
 }
 
+TEST_CASE("children above a cut: the pruned search equals the filtered full enumeration",
+          "[rbpf][offspring]") {
+  Rng rng(4);
+  for (int nz : {2, 3}) {
+    const int B = nz == 2 ? 6 : 4;
+    MatX A(B, nz);
+    for (int b = 0; b < B; ++b)
+      for (int z = 0; z < nz; ++z) A(b, z) = std::log(rng.uniform());
+    std::vector<std::uint64_t> pow(static_cast<std::size_t>(B), 1);
+    for (int b = 1; b < B; ++b) pow[static_cast<std::size_t>(b)] = pow[static_cast<std::size_t>(b) - 1] * nz;
+    std::vector<int> opt(static_cast<std::size_t>(B * nz));
+    const double base = -0.7;
+    std::map<std::uint64_t, double> all;
+    enumerate_all(A, [&](std::uint64_t k, double s) { all[k] = base + s; });
+    std::vector<double> sorted;
+    for (auto& [k, w] : all) sorted.push_back(w);
+    std::sort(sorted.begin(), sorted.end(), std::greater<double>());
+    // fixed cuts halfway between consecutive weights (so the 1e-9 margin decides nothing)
+    for (std::size_t m : {std::size_t{1}, std::size_t{5}, sorted.size() / 2, sorted.size()}) {
+      const double cut = m < sorted.size() ? 0.5 * (sorted[m - 1] + sorted[m]) : -1e300;
+      std::map<std::uint64_t, double> got;
+      enumerate_above(
+          A, base, pow.data(), opt.data(), [&] { return cut; },
+          [&](std::uint64_t k, double w) { got[k] = w; });
+      REQUIRE(got.size() == m);
+      for (auto& [k, w] : got) {
+        REQUIRE(all.count(k) == 1);
+        CHECK_THAT(w, WithinAbs(all[k], 1e-12));
+        CHECK(w > cut);
+      }
+    }
+    // a rising cut (the M-th weight of a top-M list as it fills): the M heaviest are always emitted
+    const int K = 7;
+    std::vector<int> out;
+    std::vector<double> wbuf(all.size());
+    TopSelector top(wbuf.data(), K, out);
+    int emitted = 0;
+    enumerate_above(
+        A, base, pow.data(), opt.data(), [&] { return top.full() ? top.threshold() : -1e300; },
+        [&](std::uint64_t k, double w) {
+          wbuf[static_cast<std::size_t>(k)] = w;
+          top.offer(static_cast<int>(k));
+          ++emitted;
+        });
+    top.finish();
+    REQUIRE(out.size() == static_cast<std::size_t>(K));
+    for (int i = 0; i < K; ++i)
+      CHECK_THAT(wbuf[static_cast<std::size_t>(out[static_cast<std::size_t>(i)])],
+                 WithinAbs(sorted[static_cast<std::size_t>(i)], 1e-12));
+    CHECK(emitted < static_cast<int>(all.size()));  // the search did prune
+  }
+}
+
 namespace {
 /// Tiny case: B = 2 anchors, N_z = 2, 1-D-ish CV model in 2-D with two TOA rows.
 struct Tiny {

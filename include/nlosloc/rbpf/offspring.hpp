@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -158,6 +159,58 @@ template <class Emit>
 void enumerate_best(const MatX& A, std::uint64_t limit, Emit&& emit) {
   BestFirstWorkspace ws;
   enumerate_best(A, limit, ws, std::forward<Emit>(emit));
+}
+
+namespace detail {
+/// Depth-first search of enumerate_above: anchors [b, B) open, `sum` = base plus the chosen factors,
+/// `bound` = sum plus the best factor of every open anchor (the heaviest completion).
+template <class Cut, class Emit>
+struct AboveSearch {
+  const MatX& A;
+  const int* opt;  // B x N_z, row b: anchor b's conditions by decreasing factor
+  const std::uint64_t* pow;
+  int B, nz;
+  Cut& cut;
+  Emit& emit;
+  void run(int b, double sum, double bound, std::uint64_t key) {
+    if (b == B) {
+      emit(key, sum);
+      return;
+    }
+    const int* o = opt + static_cast<std::size_t>(b) * static_cast<std::size_t>(nz);
+    const double best = A(b, o[0]);
+    for (int r = 0; r < nz; ++r) {
+      const double a = A(b, o[r]);
+      const double ub = bound - best + a;                   // heaviest completion with this condition
+      if (ub + 1e-9 * (1.0 + std::abs(ub)) < cut()) break;  // the next conditions are lighter still
+      run(b + 1, sum + a, ub, key + static_cast<std::uint64_t>(o[r]) * pow[b]);
+    }
+  }
+};
+}  // namespace detail
+
+/// Calls emit(key, base + sum_b A(b, s_b)) for the situation vectors whose weight reaches cut(), without
+/// visiting the others (the reordered RBPF's children above its running M-th weight): a depth-first
+/// search over the anchors, each anchor's conditions by decreasing factor, that abandons a branch as soon
+/// as its heaviest completion falls below cut(). cut() is read as the search goes and must not decrease;
+/// vectors up to a relative 1e-9 below it may be emitted too (summation-order margin). `pow` holds N_z^b
+/// (size B); `opt` is caller-owned scratch of B x N_z ints (no allocation).
+template <class Cut, class Emit>
+void enumerate_above(const MatX& A, double base, const std::uint64_t* pow, int* opt, Cut&& cut, Emit&& emit) {
+  const int B = static_cast<int>(A.rows()), nz = static_cast<int>(A.cols());
+  double bound = base;
+  for (int b = 0; b < B; ++b) {
+    int* o = opt + static_cast<std::size_t>(b) * static_cast<std::size_t>(nz);
+    for (int z = 0; z < nz; ++z) {  // stable insertion sort (N_z is small)
+      int j = z;
+      for (; j > 0 && A(b, o[j - 1]) < A(b, z); --j) o[j] = o[j - 1];
+      o[j] = z;
+    }
+    bound += A(b, o[0]);
+  }
+  detail::AboveSearch<std::remove_reference_t<Cut>, std::remove_reference_t<Emit>> search{A,  opt, pow, B,
+                                                                                          nz, cut, emit};
+  search.run(0, base, bound, 0);
 }
 
 /// Enumerates the children of one particle: all N_z^B when N_z^B <= limit, else the `limit` best (above).

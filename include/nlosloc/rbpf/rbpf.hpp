@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -79,7 +80,8 @@ class Rbpf {
         sight_(std::move(sight)),
         quality_(std::move(quality)),
         opt_(options),
-        pool_(std::make_unique<ThreadPool>(options.threads)) {
+        pool_(std::make_unique<ThreadPool>(options.threads)),
+        barrier_(std::make_unique<SpinBarrier>(options.threads)) {
     ::nlosloc::detail::check_layout<N>(meas);
     meas.check_ready();
     NLOSLOC_ENSURE(options.num_particles >= 1,
@@ -104,6 +106,11 @@ class Rbpf {
     const std::uint64_t total = situation_count(nz_, B_);
     NLOSLOC_ENSURE(total != 0, "sight: N_z^B does not fit in 62 bits; reduce the anchors per filter");
     per_parent_ = static_cast<int>(std::min<std::uint64_t>(total, options.max_offspring));
+    full_enum_ = static_cast<std::uint64_t>(per_parent_) == total;
+    pow_nz_.assign(static_cast<std::size_t>(B_), 1);
+    for (int b = 1; b < B_; ++b)
+      pow_nz_[static_cast<std::size_t>(b)] =
+          pow_nz_[static_cast<std::size_t>(b) - 1] * static_cast<std::uint64_t>(nz_);
     const int M = options.num_particles;
     const auto cap = static_cast<std::size_t>(M) * static_cast<std::size_t>(per_parent_);
     NLOSLOC_ENSURE(cap <= (std::size_t{1} << 26),
@@ -133,9 +140,7 @@ class Rbpf {
     near_.assign(static_cast<std::size_t>(M), 0);
     best_.assign(static_cast<std::size_t>(M), 0.0);
     known_.assign(3 * static_cast<std::size_t>(M), 0.0);
-    ktmp_ = known_;
     byx_.reserve(static_cast<std::size_t>(M));
-    porder_.reserve(static_cast<std::size_t>(M));
     apar_.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
     for (int t = 0; t < pool_->size(); ++t) {
       kernels_.emplace_back(std::make_unique<UkfKernel<Motion, Meas>>(meas_, options.scheme));
@@ -144,11 +149,16 @@ class Rbpf {
       w->speeds.setZero(B_);
       w->s.setZero(B_);
       w->cand.reserve(static_cast<std::size_t>(M));
+      w->porder.reserve(static_cast<std::size_t>(M));
+      w->mprob.setZero(B_, nz_);
+      w->opt.assign(static_cast<std::size_t>(B_) * static_cast<std::size_t>(nz_), 0);
+      w->ktmp.assign(3 * static_cast<std::size_t>(M), 0.0);
       if (static_cast<std::uint64_t>(per_parent_) < total)
         w->best.reserve(B_, nz_, static_cast<std::uint64_t>(per_parent_));
       work_.push_back(std::move(w));
     }
     thread_fail_.assign(static_cast<std::size_t>(pool_->size()), 0);
+    split_.assign(static_cast<std::size_t>(pool_->size()) + 1, 0);
     thread_status_.assign(static_cast<std::size_t>(pool_->size()), CholeskyStatus::kOk);
     Lq_.resize(B_, nz_);
     cand_.reserve(cap + static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
@@ -174,6 +184,7 @@ class Rbpf {
     prob_.setZero();
     for (int b = 0; b < B_; ++b) prob_.row(b) = sight_.model(b).initial().transpose();
     pos_var_ = position_variance(initial.cov);
+    xpred_ready_ = false;
   }
 
   /// One iteration with measurements y (size rows; NaN = missing) and quality statistics o (size B;
@@ -259,8 +270,16 @@ class Rbpf {
     MatX T;
     VecX speeds;
     VecXi s;
-    std::vector<int> cand;    // top-M children of this thread's share of the parents without a neighbour
-    BestFirstWorkspace best;  // bounded enumeration (reserved at construction when it is used)
+    std::vector<int> cand;     // top-M children of this thread's share of the parents without a neighbour
+    std::vector<int> porder;   // parents that pass the cut, by decreasing best child
+    std::vector<double> ktmp;  // scratch copy of known_
+    std::vector<int> opt;      // B x N_z: each anchor's conditions by decreasing factor (offer_pruned)
+    BestFirstWorkspace best;   // bounded enumeration (reserved at construction when it is used)
+    // reordered summary of this thread's updated particles (accumulate_moments)
+    double mmax = 0.0, m0 = 0.0;
+    State m1;
+    Cov m2;
+    MatX mprob;
   };
 
   /// A(b, z) = log P(s_b,t = z | s_b,t-1) + log p(o_b | z) for parent p (eqs. 9, 25, 32).
@@ -308,6 +327,24 @@ class Rbpf {
     }
   }
 
+  /// Offers to `top` the children of parent p whose weight can reach the current cut (the larger of
+  /// `floor` and top's M-th weight) without visiting the others (enumerate_above). Same children, keys and
+  /// indices p * per + key as the full enumeration, which it replaces when N_z^B is enumerated; only the
+  /// offered children are written to off_*.
+  void offer_pruned(int p, ThreadWork& w, TopSelector& top, double floor) {
+    const auto u0 = static_cast<std::size_t>(p) * static_cast<std::size_t>(per_parent_);
+    enumerate_above(
+        apar_[static_cast<std::size_t>(p)], logw_[static_cast<std::size_t>(p)], pow_nz_.data(), w.opt.data(),
+        [&] { return top.full() ? std::max(floor, top.threshold()) : floor; },
+        [&](std::uint64_t key, double weight) {
+          const std::size_t u = u0 + static_cast<std::size_t>(key);
+          off_parent_[u] = p;
+          off_key_[u] = key;
+          off_logw_[u] = weight;
+          top.offer(static_cast<int>(u));
+        });
+  }
+
   /// Classical order: every child of every parent into off_*, parents split over the pool.
   int expand_all(long k) {
     pool_->parallel_for(count_, [&](int pb, int pe, int th) {
@@ -326,88 +363,106 @@ class Rbpf {
   /// per thread, the M heaviest children of the other parents into w.cand. A parent whose best child
   /// (its weight plus sum_b max_z A(b, z)) is lighter than the thread's M-th kept child cannot contribute
   /// and is not enumerated; parents are visited by decreasing best child so this cut comes early.
+  /// One parallel region: factors of a contiguous share of the parents, a barrier, then every thread
+  /// derives the same cut tau and parent ranking from the shared arrays (redundant but cheaper than a
+  /// second hand-off) and enumerates its round-robin share of the ranking.
   int expand_reordered(long k, double d_min) {
-    const auto M = static_cast<std::size_t>(opt_.num_particles);
     std::fill(near_.begin(), near_.end(), 0);
     if (opt_.merge) mark_near_parents(d_min);
-    // Factors, best child and the near parents' children, parents split over the pool.
-    pool_->parallel_for(count_, [&](int pb, int pe, int th) {
+    const int T = pool_->size();
+    pool_->parallel_for(T, [&](int th, int, int) {
       ThreadWork& w = *work_[static_cast<std::size_t>(th)];
-      for (int p = pb; p < pe; ++p) {
-        MatX& A = apar_[static_cast<std::size_t>(p)];
-        parent_factors(p, k, w, A);
-        const double bp = logw_[static_cast<std::size_t>(p)] + A.rowwise().maxCoeff().sum();
-        best_[static_cast<std::size_t>(p)] = bp;
-        // Three of p's children with known weights: the best, and the best with the anchor of the
-        // smallest (then second smallest) gap between its best and second-best condition switched.
-        double g1 = kInf, g2 = kInf;
-        if (nz_ > 1)
-          for (int b = 0; b < B_; ++b) {
-            double m1 = -kInf, m2 = -kInf;
-            for (int z = 0; z < nz_; ++z) {
-              const double a = A(b, z);
-              if (a > m1) {
-                m2 = m1;
-                m1 = a;
-              } else if (a > m2) {
-                m2 = a;
-              }
-            }
-            const double g = m1 - m2;
-            if (g < g1) {
-              g2 = g1;
-              g1 = g;
-            } else if (g < g2) {
-              g2 = g;
-            }
-          }
-        const auto u = 3 * static_cast<std::size_t>(p);
-        // The i-th heaviest emitted child weighs at least the i-th known one (i <= children emitted).
-        const bool skip = near_[static_cast<std::size_t>(p)] != 0;
-        known_[u] = skip ? -kInf : bp;
-        known_[u + 1] = skip || per_parent_ < 2 ? -kInf : bp - g1;
-        known_[u + 2] = skip || per_parent_ < 3 ? -kInf : bp - g2;
-        if (near_[static_cast<std::size_t>(p)]) emit_children(p, w, nullptr);
+      std::exception_ptr err;
+      try {
+        const int pb = static_cast<int>(static_cast<long long>(count_) * th / T);
+        const int pe = static_cast<int>(static_cast<long long>(count_) * (th + 1) / T);
+        for (int p = pb; p < pe; ++p) parent_bounds(p, k, w);
+      } catch (...) {
+        err = std::current_exception();
       }
+      barrier_->arrive_and_wait();  // every thread arrives, even after an exception (no deadlock)
+      if (err) std::rethrow_exception(err);
+      enumerate_share(th, T, w);
     });
-    // tau: the M-th largest of those known weights (of distinct children of parents without a
-    // neighbour) is a lower bound of the M-th heaviest child among those parents; lighter children and
-    // parents whose best child is lighter are skipped. Slightly lowered for the summation order.
+    return count_ * per_parent_;
+  }
+
+  /// Factors A of parent p, its best child's weight best_[p], three known child weights known_[3p..] and,
+  /// when p has a neighbour, all its children (eq. 23).
+  void parent_bounds(int p, long k, ThreadWork& w) {
+    MatX& A = apar_[static_cast<std::size_t>(p)];
+    parent_factors(p, k, w, A);
+    const double bp = logw_[static_cast<std::size_t>(p)] + A.rowwise().maxCoeff().sum();
+    best_[static_cast<std::size_t>(p)] = bp;
+    // Three of p's children with known weights: the best, and the best with the anchor of the smallest
+    // (then second smallest) gap between its best and second-best condition switched.
+    double g1 = kInf, g2 = kInf;
+    if (nz_ > 1)
+      for (int b = 0; b < B_; ++b) {
+        double m1 = -kInf, m2 = -kInf;
+        for (int z = 0; z < nz_; ++z) {
+          const double a = A(b, z);
+          if (a > m1) {
+            m2 = m1;
+            m1 = a;
+          } else if (a > m2) {
+            m2 = a;
+          }
+        }
+        const double g = m1 - m2;
+        if (g < g1) {
+          g2 = g1;
+          g1 = g;
+        } else if (g < g2) {
+          g2 = g;
+        }
+      }
+    const auto u = 3 * static_cast<std::size_t>(p);
+    // The i-th heaviest emitted child weighs at least the i-th known one (i <= children emitted).
+    const bool skip = near_[static_cast<std::size_t>(p)] != 0;
+    known_[u] = skip ? -kInf : bp;
+    known_[u + 1] = skip || per_parent_ < 2 ? -kInf : bp - g1;
+    known_[u + 2] = skip || per_parent_ < 3 ? -kInf : bp - g2;
+    if (skip) emit_children(p, w, nullptr);
+  }
+
+  /// Thread th's part of the reordered expansion, after every parent's bounds are known.
+  void enumerate_share(int th, int T, ThreadWork& w) {
+    const auto M = static_cast<std::size_t>(opt_.num_particles);
+    // tau: the M-th largest of the known weights (of distinct children of parents without a neighbour)
+    // is a lower bound of the M-th heaviest child among those parents; lighter children and parents
+    // whose best child is lighter are skipped. Slightly lowered for the summation order.
     double tau = -kInf;
     const auto nk = 3 * static_cast<std::size_t>(count_);
-    std::copy(known_.begin(), known_.begin() + static_cast<std::ptrdiff_t>(nk), ktmp_.begin());
     if (nk >= M) {
-      std::nth_element(ktmp_.begin(), ktmp_.begin() + static_cast<std::ptrdiff_t>(M - 1),
-                       ktmp_.begin() + static_cast<std::ptrdiff_t>(nk), std::greater<double>());
-      const double v = ktmp_[M - 1];
+      std::copy(known_.begin(), known_.begin() + static_cast<std::ptrdiff_t>(nk), w.ktmp.begin());
+      std::nth_element(w.ktmp.begin(), w.ktmp.begin() + static_cast<std::ptrdiff_t>(M - 1),
+                       w.ktmp.begin() + static_cast<std::ptrdiff_t>(nk), std::greater<double>());
+      const double v = w.ktmp[M - 1];
       if (std::isfinite(v)) tau = v - 1e-9 * (1.0 + std::abs(v));
     }
-    // The other parents by decreasing best child, dealt round-robin to the threads so each gets an even
-    // share of the parents that survive the cut below.
-    porder_.clear();
+    // The margin covers the different summation order of the children's weights.
+    auto above = [&](double bp, double cut) { return !(bp + 1e-9 * (1.0 + std::abs(bp)) < cut); };
+    // The other parents that pass the cut, by decreasing best child, dealt round-robin to the threads so
+    // each gets an even share of the parents that survive the per-thread cut below.
+    w.porder.clear();
     for (int p = 0; p < count_; ++p)
-      if (!near_[static_cast<std::size_t>(p)]) porder_.push_back(p);
-    std::sort(porder_.begin(), porder_.end(), [&](int a, int b) {
+      if (!near_[static_cast<std::size_t>(p)] && above(best_[static_cast<std::size_t>(p)], tau))
+        w.porder.push_back(p);
+    std::sort(w.porder.begin(), w.porder.end(), [&](int a, int b) {
       const double ba = best_[static_cast<std::size_t>(a)], bb = best_[static_cast<std::size_t>(b)];
       return ba != bb ? ba > bb : a < b;
     });
-    const int T = pool_->size();
-    pool_->parallel_for(T, [&](int tb, int te, int) {
-      for (int th = tb; th < te; ++th) {
-        ThreadWork& w = *work_[static_cast<std::size_t>(th)];
-        TopSelector top(off_logw_.data(), static_cast<int>(M), w.cand);
-        for (std::size_t j = static_cast<std::size_t>(th); j < porder_.size();
-             j += static_cast<std::size_t>(T)) {
-          const int p = porder_[j];
-          // The margin covers the different summation order of the children's weights.
-          const double bp = best_[static_cast<std::size_t>(p)];
-          if (bp + 1e-9 * (1.0 + std::abs(bp)) < tau) break;
-          if (top.full() && bp + 1e-9 * (1.0 + std::abs(bp)) < top.threshold()) break;
-          emit_children(p, w, &top, tau);
-        }
-      }
-    });
-    return count_ * per_parent_;
+    TopSelector top(off_logw_.data(), static_cast<int>(M), w.cand);
+    for (std::size_t j = static_cast<std::size_t>(th); j < w.porder.size();
+         j += static_cast<std::size_t>(T)) {
+      const int p = w.porder[j];
+      if (top.full() && !above(best_[static_cast<std::size_t>(p)], top.threshold())) break;
+      if (full_enum_)
+        offer_pruned(p, w, top, tau);
+      else
+        emit_children(p, w, &top, tau);
+    }
   }
 
   /// near_[p] = 1 when parent p's predicted mean F x_p is within d_min of another's (eq. 29), with the
@@ -416,8 +471,9 @@ class Rbpf {
   void mark_near_parents(double d_min) {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
     const double d2 = d_min * d_min;
-    for (int p = 0; p < count_; ++p)
-      xpred_[static_cast<std::size_t>(p)].noalias() = motion_.F() * mean_[static_cast<std::size_t>(p)];
+    if (!xpred_ready_)  // else the last UKF bank computed them
+      for (int p = 0; p < count_; ++p)
+        xpred_[static_cast<std::size_t>(p)].noalias() = motion_.F() * mean_[static_cast<std::size_t>(p)];
     std::fill(adj_.begin(), adj_.end(), 0);
     byx_.resize(static_cast<std::size_t>(count_));
     for (int p = 0; p < count_; ++p) byx_[static_cast<std::size_t>(p)] = p;
@@ -469,41 +525,94 @@ class Rbpf {
         off_logw_[static_cast<std::size_t>(sub_[j])] = sub_logw_[j];
     }
     // The global top M lies in the merged children and the threads' top-M lists of the others (whose
-    // weights the merge did not touch).
-    cand_.assign(sub_.begin(), sub_.end());
+    // weights the merge did not touch); selected in linear time, ties by index (a strict order, so the
+    // set is unique). Zero-weight children (absorbed, or impossible) are never selected.
+    cand_.clear();
+    for (const int j : sub_)
+      if (off_logw_[static_cast<std::size_t>(j)] > -kInf) cand_.push_back(j);
     for (const auto& w : work_) cand_.insert(cand_.end(), w->cand.begin(), w->cand.end());
-    select_top_of(
-        off_logw_.data(), static_cast<int>(cand_.size()),
-        [this](int j) { return cand_[static_cast<std::size_t>(j)]; }, opt_.num_particles, sel_);
+    const std::size_t keep = std::min(M, cand_.size());
+    if (keep < cand_.size())
+      std::nth_element(cand_.begin(), cand_.begin() + static_cast<std::ptrdiff_t>(keep - 1), cand_.end(),
+                       [&](int a, int b) {
+                         const double wa = off_logw_[static_cast<std::size_t>(a)];
+                         const double wb = off_logw_[static_cast<std::size_t>(b)];
+                         return wa != wb ? wa > wb : a < b;
+                       });
+    sel_.assign(cand_.begin(), cand_.begin() + static_cast<std::ptrdiff_t>(keep));
     // Group the survivors by parent so each parent's sigma points are computed once per thread: a
-    // child's index is parent * per + rank, so index order groups them (std::sort: no buffer allocated).
+    // child's index is parent * per + rank, so index order groups them.
     std::sort(sel_.begin(), sel_.end());
     const int ns = static_cast<int>(sel_.size());
     info.ukf_runs = ns;
+    // The bank also accumulates, per thread, the moments of eq. (27)-(28) around c = F x_hat_{t-1}
+    // (close to the new estimate, so the raw second moment loses no precision), the situation
+    // probabilities and the next step's predicted means: no serial pass over the particles after it.
+    centre_.noalias() = motion_.F() * est_;
     run_bank(
         ns, t, [&](int i) { return sel_[static_cast<std::size_t>(i)]; },
         [&](int i) -> State& { return nmean_[static_cast<std::size_t>(i)]; },
-        [&](int i) -> Cov& { return ncov_[static_cast<std::size_t>(i)]; }, nlogw_.data(), info);
-    for (int i = 0; i < ns; ++i)
-      nkey_[static_cast<std::size_t>(i)] =
-          off_key_[static_cast<std::size_t>(sel_[static_cast<std::size_t>(i)])];
-    // eq. (33): w_t = w_t|t-1 p(y_t | s_1:t, y_1:t-1), normalised (log-sum-exp)
-    Eigen::Map<VecX> lw(nlogw_.data(), ns);
-    const double z = log_sum_exp(lw);
+        [&](int i) -> Cov& { return ncov_[static_cast<std::size_t>(i)]; }, nlogw_.data(), info,
+        [&](int b, int e, ThreadWork& w) { accumulate_moments(b, e, w); });
+    // eq. (33): w_t = w_t|t-1 p(y_t | s_1:t, y_1:t-1), normalised (log-sum-exp over the threads' sums)
+    double z = -kInf;
+    for (const auto& w : work_)
+      if (w->m0 > 0.0) z = log_add(z, w->mmax + std::log(w->m0));
     if (!std::isfinite(z))
       nlosloc::detail::throw_numerical_error("Rbpf.step: every UKF update failed or had zero likelihood");
-    lw.array() -= z;
+    for (int i = 0; i < ns; ++i) nlogw_[static_cast<std::size_t>(i)] -= z;
     info.log_likelihood = z;
+    State d = State::Zero();
+    Cov m2 = Cov::Zero();
+    prob_.setZero();
+    for (const auto& w : work_) {
+      if (!(w->m0 > 0.0)) continue;
+      const double f = std::exp(w->mmax - z);
+      d += f * w->m1;
+      m2 += f * w->m2;
+      prob_ += f * w->mprob;
+    }
+    est_ = centre_ + d;                 // eq. (28)
+    est_cov_ = m2 - d * d.transpose();  // eq. (27), moment matched
+    nlosloc::detail::symmetrize(est_cov_);
     std::swap(mean_, nmean_);
     std::swap(cov_, ncov_);
     std::swap(key_, nkey_);
     std::swap(logw_, nlogw_);
     count_ = ns;
-    summarise(
-        count_, [&](int i) -> const State& { return mean_[static_cast<std::size_t>(i)]; },
-        [&](int i) -> const Cov& { return cov_[static_cast<std::size_t>(i)]; },
-        [&](int i) { return key_[static_cast<std::size_t>(i)]; },
-        [&](int i) { return logw_[static_cast<std::size_t>(i)]; });
+    xpred_ready_ = true;
+  }
+
+  /// Thread part of the reordered summary over updated particles [b, e): keys, next predicted means, and
+  /// weighted sums relative to the thread's largest log weight mmax (m0 = sum of weights, m1 = sum of
+  /// w (x - c), m2 = sum of w (P + (x - c)(x - c)^T), mprob = sum of w per anchor and condition).
+  void accumulate_moments(int b, int e, ThreadWork& w) {
+    w.mmax = -kInf;
+    w.m0 = 0.0;
+    w.m1.setZero();
+    w.m2.setZero();
+    w.mprob.setZero();
+    for (int i = b; i < e; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      nkey_[u] = off_key_[static_cast<std::size_t>(sel_[u])];
+      xpred_[u].noalias() = motion_.F() * nmean_[u];
+      w.mmax = std::max(w.mmax, nlogw_[u]);
+    }
+    if (!(w.mmax > -kInf)) return;
+    for (int i = b; i < e; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      const double wi = std::exp(nlogw_[u] - w.mmax);
+      if (wi == 0.0) continue;
+      const State dx = nmean_[u] - centre_;
+      w.m0 += wi;
+      w.m1 += wi * dx;
+      w.m2 += wi * (ncov_[u] + dx * dx.transpose());
+      std::uint64_t key = nkey_[u];
+      for (int a = 0; a < B_; ++a) {
+        w.mprob(a, static_cast<Eigen::Index>(key % static_cast<std::uint64_t>(nz_))) += wi;
+        key /= static_cast<std::uint64_t>(nz_);
+      }
+    }
   }
 
   void step_classical(long k, double t, RbpfStepInfo& info) {
@@ -514,7 +623,8 @@ class Rbpf {
     run_bank(
         n, t, [](int i) { return i; },
         [&](int i) -> State& { return off_mean_[static_cast<std::size_t>(i)]; },
-        [&](int i) -> Cov& { return off_cov_[static_cast<std::size_t>(i)]; }, off_logw_.data(), info);
+        [&](int i) -> Cov& { return off_cov_[static_cast<std::size_t>(i)]; }, off_logw_.data(), info,
+        [](int, int, ThreadWork&) {});
     Eigen::Map<VecX> lw(off_logw_.data(), n);
     const double z = log_sum_exp(lw);
     if (!std::isfinite(z))
@@ -555,12 +665,36 @@ class Rbpf {
 
   /// Runs the UKF of `n` children (child(i) -> index into off_*, in parent order) on the pool and adds the
   /// log-likelihood to logw[i] (starting from off_logw_ of the child); failures get weight zero.
-  template <class Child, class MeanOut, class CovOut>
+  /// The children are split over the threads by cost (a parent's sigma-point preparation counts as one
+  /// child update), and `after(b, e, work)` runs on each thread's range in the same parallel region.
+  template <class Child, class MeanOut, class CovOut, class After>
   void run_bank(int n, double t, Child child, MeanOut mean_out, CovOut cov_out, double* logw,
-                RbpfStepInfo& info) {
+                RbpfStepInfo& info, After after) {
     std::fill(thread_fail_.begin(), thread_fail_.end(), 0);
     std::fill(thread_status_.begin(), thread_status_.end(), CholeskyStatus::kOk);
-    pool_->parallel_for(n, [&](int b, int e, int th) {
+    const int T = pool_->size();
+    {
+      double total = 0.0;
+      int last = -1;
+      for (int i = 0; i < n; ++i) {
+        const int p = off_parent_[static_cast<std::size_t>(child(i))];
+        total += p != last ? 2.0 : 1.0;
+        last = p;
+      }
+      split_[0] = 0;
+      int th = 1;
+      double acc = 0.0;
+      last = -1;
+      for (int i = 0; i < n && th < T; ++i) {
+        const int p = off_parent_[static_cast<std::size_t>(child(i))];
+        acc += p != last ? 2.0 : 1.0;
+        last = p;
+        while (th < T && acc >= total * th / T) split_[static_cast<std::size_t>(th++)] = i + 1;
+      }
+      while (th <= T) split_[static_cast<std::size_t>(th++)] = n;
+    }
+    pool_->parallel_for(T, [&](int th, int, int) {
+      const int b = split_[static_cast<std::size_t>(th)], e = split_[static_cast<std::size_t>(th) + 1];
       auto& ker = *kernels_[static_cast<std::size_t>(th)];
       VecXi& s = work_[static_cast<std::size_t>(th)]->s;
       int last = -1;
@@ -595,6 +729,7 @@ class Rbpf {
           logw[i] = prior + res.log_likelihood;  // eq. (25) / (33)
         }
       }
+      after(b, e, *work_[static_cast<std::size_t>(th)]);
     });
     for (std::size_t th = 0; th < thread_fail_.size(); ++th) {
       info.failures += thread_fail_[th];
@@ -636,6 +771,7 @@ class Rbpf {
   situation::QualityModel quality_;
   RbpfOptions opt_;
   std::unique_ptr<ThreadPool> pool_;  // owned through a pointer: workers keep its address; Rbpf stays movable
+  std::unique_ptr<SpinBarrier> barrier_;  // inside expand_reordered's region (pointer: Rbpf stays movable)
   int B_ = 0, nz_ = 0, per_parent_ = 0, count_ = 0;
   bool first_ = true;
   double t_ = 0.0, pos_var_ = 0.0;
@@ -653,9 +789,9 @@ class Rbpf {
   std::vector<Cov> off_cov_;
   // merge / select workspace
   std::vector<char> adj_, near_;
-  std::vector<int> sel_, sub_, cand_, byx_, porder_;
-  std::vector<double> best_;          // best child log weight per parent
-  std::vector<double> known_, ktmp_;  // three known child weights per parent, and scratch
+  std::vector<int> sel_, sub_, cand_, byx_;
+  std::vector<double> best_;   // best child log weight per parent
+  std::vector<double> known_;  // three known child weights per parent
   static constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<MatX> apar_;  // per-parent factors A (B x N_z)
   std::vector<std::uint64_t> sub_key_;
@@ -665,6 +801,11 @@ class Rbpf {
   std::vector<std::unique_ptr<UkfKernel<Motion, Meas>>> kernels_;
   std::vector<std::unique_ptr<ThreadWork>> work_;
   std::vector<int> thread_fail_;
+  std::vector<int> split_;             // run_bank: first child of each thread (size threads + 1)
+  State centre_;                       // c of accumulate_moments
+  bool xpred_ready_ = false;           // xpred_ holds F x of the current particles
+  bool full_enum_ = false;             // every situation vector is a child (N_z^B <= max_offspring)
+  std::vector<std::uint64_t> pow_nz_;  // N_z^b
   std::vector<CholeskyStatus> thread_status_;
   MatX Lq_, prob_;
   VecX y_;

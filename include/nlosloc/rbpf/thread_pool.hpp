@@ -21,6 +21,44 @@
 
 namespace nlosloc::rbpf {
 
+namespace detail {
+/// One poll of a spin: a pause hint for the first polls, then yield (so an oversubscribed machine runs the
+/// thread being waited for instead of the spinner).
+inline void spin_relax(int i) {
+#if defined(__x86_64__) || defined(__i386__)
+  if (i < 128) {
+    __builtin_ia32_pause();
+    return;
+  }
+#endif
+  (void)i;
+  std::this_thread::yield();
+}
+}  // namespace detail
+
+/// Barrier for the threads of one parallel_for(n = size()) region, where each thread runs exactly one
+/// index and all of them run at once: a step can then keep one region across a short serial part instead
+/// of ending it and starting another. Spins (detail::spin_relax); reusable (generation count).
+class SpinBarrier {
+ public:
+  explicit SpinBarrier(int threads = 1) : n_(threads) {}
+  void arrive_and_wait() {
+    if (n_ <= 1) return;
+    const unsigned g = gen_.load(std::memory_order_acquire);
+    if (count_.fetch_add(1, std::memory_order_acq_rel) == n_ - 1) {
+      count_.store(0, std::memory_order_relaxed);
+      gen_.fetch_add(1, std::memory_order_release);
+      return;
+    }
+    for (int i = 0; gen_.load(std::memory_order_acquire) == g; ++i) detail::spin_relax(i);
+  }
+
+ private:
+  int n_;
+  std::atomic<int> count_{0};
+  std::atomic<unsigned> gen_{0};
+};
+
 /// Persistent thread pool for the UKF bank and the particle filter.
 class ThreadPool {
  public:
@@ -81,18 +119,7 @@ class ThreadPool {
 
  private:
   static constexpr int kSpin = 2000;
-  /// One poll of a spin: a pause hint for the first polls, then yield (so an oversubscribed machine
-  /// runs the thread being waited for instead of the spinner).
-  static void relax(int i) {
-#if defined(__x86_64__) || defined(__i386__)
-    if (i < 128) {
-      __builtin_ia32_pause();
-      return;
-    }
-#endif
-    (void)i;
-    std::this_thread::yield();
-  }
+  static void relax(int i) { detail::spin_relax(i); }
   void run_chunk(int t) {
     const int b = static_cast<int>(static_cast<long long>(n_) * t / size_);
     const int e = static_cast<int>(static_cast<long long>(n_) * (t + 1) / size_);
