@@ -99,6 +99,11 @@ void bind_situation(py::module_& m) {
           "sample", [](const QualityModel& q, const VecXi& s, Rng& rng) { return q.sample(s, rng); },
           py::arg("s"), py::arg("rng"), "One statistic per anchor for situation s (B,).");
 
+  py::class_<ForwardFilter::Snapshot>(m, "ForwardFilterSnapshot", "State saved by ForwardFilter.save().")
+      .def_readonly("gamma", &ForwardFilter::Snapshot::gamma, "(B, N_z) probabilities.")
+      .def_readonly("pred", &ForwardFilter::Snapshot::pred, "(B, N_z) predicted probabilities.")
+      .def_readonly("k", &ForwardFilter::Snapshot::k, "Step index.")
+      .def_readonly("log_evidence", &ForwardFilter::Snapshot::log_evidence, "Last log evidence.");
   py::class_<ForwardFilter>(m, "ForwardFilter",
                             "Per-anchor HMM forward filter of the sight (Huerta eqs. 35-38).")
       .def(py::init<SightProcess, QualityModel>(), py::arg("process"), py::arg("quality"))
@@ -113,5 +118,15 @@ void bind_situation(py::module_& m) {
       .def("step", &ForwardFilter::step, py::arg("o"), py::arg("speeds") = VecX())
       .def_property_readonly("probabilities", &ForwardFilter::probabilities, "(B, N_z) P(s_b = z | o_b,1:t).")
       .def_property_readonly("predicted", &ForwardFilter::predicted)
-      .def("argmax", &ForwardFilter::argmax);
+      .def("argmax", &ForwardFilter::argmax)
+      .def(
+          "save",
+          [](const ForwardFilter& f) {
+            ForwardFilter::Snapshot snap;
+            f.save(snap);
+            return snap;
+          },
+          "Snapshot of the mutable state (probabilities, step, evidence), to undo steps with restore().")
+      .def("restore", &ForwardFilter::restore, py::arg("snapshot"),
+           "Restores a snapshot from save() (shapes are checked).");
 }

@@ -172,6 +172,21 @@ TEST_CASE("IUKF reduces to the UKF when the forward filter is certain", "[situat
   CHECK(std::isfinite(r.log_likelihood));
   CHECK(f.sight_estimate()(1) == 1);
   CHECK_THROWS_AS(f.step_quality(y, VecX::Zero(2)), std::invalid_argument);
+  // A statistic impossible under every condition throws after the prediction: the filter and its
+  // forward filter are restored (the snapshot path of step_quality).
+  const Vec<4> m0 = f.mean();
+  const Mat<4, 4> P0 = f.cov();
+  const MatX p0 = f.forward().probabilities();
+  const long k0 = f.forward().step_index();
+  const double t0 = f.time();
+  VecX bad = o;
+  bad(2) = 7.0;  // outside the support of both quality pdfs
+  CHECK_THROWS_WITH(f.step_quality(y, bad), Catch::Matchers::Contains("o: statistic of anchor 2"));
+  CHECK(f.mean() == m0);
+  CHECK(f.cov() == P0);
+  CHECK(f.forward().probabilities() == p0);
+  CHECK(f.forward().step_index() == k0);
+  CHECK(f.time() == t0);
 }
 
 TEST_CASE("closed-form switch probability equals eqs. 15, 17, 18", "[situation]") {

@@ -60,6 +60,17 @@ def test_forward_filter_hand_calculation():
     assert f.probabilities[0, 0] == pytest.approx(0.9 * g0 + 0.2 * (1 - g0), abs=1e-14)
     with pytest.raises(ValueError, match="o"):
         f.update(np.zeros(2))
+    # save / restore undoes steps exactly; a snapshot of another size is refused
+    snap = f.save()
+    before = f.probabilities.copy()
+    f.step(np.array([0.1]))
+    assert f.step_index == snap.k + 1
+    f.restore(snap)
+    np.testing.assert_array_equal(f.probabilities, before)
+    assert f.step_index == snap.k
+    other = situation.ForwardFilter(situation.SightProcess(proc.model(0), 2), qm)
+    with pytest.raises(ValueError, match="snapshot.gamma"):
+        f.restore(other.save())
 
 
 def test_quality_model_empirical():

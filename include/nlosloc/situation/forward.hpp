@@ -116,8 +116,10 @@ class ForwardFilter {
     s.k = k_;
     s.log_evidence = log_evidence_;
   }
-  /// Restores a snapshot saved from this filter.
+  /// Restores a snapshot saved from this filter (or one of the same size).
   void restore(const Snapshot& s) {
+    nlosloc::detail::ensure_shape(s.gamma, num_anchors(), num_conditions(), "snapshot.gamma");
+    nlosloc::detail::ensure_shape(s.pred, num_anchors(), num_conditions(), "snapshot.pred");
     gamma_ = s.gamma;
     pred_ = s.pred;
     k_ = s.k;

@@ -8,7 +8,7 @@ import nlosloc._core.noise
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['ForwardFilter', 'QualityModel', 'SightModel', 'SightProcess', 'SpeedModel', 'speed_transition_memoryless', 'speed_transition_multiple', 'speed_transition_single', 'transversal_speed']
+__all__: list[str] = ['ForwardFilter', 'ForwardFilterSnapshot', 'QualityModel', 'SightModel', 'SightProcess', 'SpeedModel', 'speed_transition_memoryless', 'speed_transition_multiple', 'speed_transition_single', 'transversal_speed']
 class SpeedModel:
     """
     Form of the speed-dependent two-state chain.
@@ -154,6 +154,30 @@ class QualityModel:
     @property
     def num_conditions(self) -> int:
         ...
+class ForwardFilterSnapshot:
+    """
+    State saved by ForwardFilter.save().
+    """
+    @property
+    def gamma(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (B, N_z) probabilities.
+        """
+    @property
+    def k(self) -> int:
+        """
+        Step index.
+        """
+    @property
+    def log_evidence(self) -> float:
+        """
+        Last log evidence.
+        """
+    @property
+    def pred(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (B, N_z) predicted probabilities.
+        """
 class ForwardFilter:
     """
     Per-anchor HMM forward filter of the sight (Huerta eqs. 35-38).
@@ -168,6 +192,14 @@ class ForwardFilter:
         """
     def reset(self) -> None:
         ...
+    def restore(self, snapshot: ForwardFilterSnapshot) -> None:
+        """
+        Restores a snapshot from save() (shapes are checked).
+        """
+    def save(self) -> ForwardFilterSnapshot:
+        """
+        Snapshot of the mutable state (probabilities, step, evidence), to undo steps with restore().
+        """
     def set_probabilities(self, gamma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> None:
         ...
     def step(self, o: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], speeds: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"] = ...) -> float:
