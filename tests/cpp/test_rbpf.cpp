@@ -432,7 +432,7 @@ TEST_CASE("RBPF on an H2-like track: 1 and 2 threads agree, estimate tracks", "[
   for (auto variant : {RbpfVariant::kReordered, RbpfVariant::kClassical}) {
     RbpfOptions opt;
     opt.variant = variant;
-    opt.num_particles = variant == RbpfVariant::kReordered ? 32 : 2;
+    opt.num_particles = variant == RbpfVariant::kReordered ? 64 : 2;  // 64: the pool is used (kMinParallel)
     Rbpf<ConstantVelocityClock2> f1(h.motion, h.st, h.proc, h.q, h.g, opt);
     opt.threads = 2;
     Rbpf<ConstantVelocityClock2> f2(h.motion, h.st, h.proc, h.q, h.g, opt);

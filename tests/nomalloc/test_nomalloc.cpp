@@ -186,7 +186,7 @@ TEST_CASE("IUKF, RBPF and PF steps do not allocate", "[nomalloc]") {
         CAPTURE(static_cast<int>(variant), max_offspring, threads);
         rbpf::RbpfOptions opt;
         opt.variant = variant;
-        opt.num_particles = variant == rbpf::RbpfVariant::kReordered ? 16 : 2;
+        opt.num_particles = variant == rbpf::RbpfVariant::kReordered ? 64 : 2;  // 64: parallel phases
         opt.max_offspring = max_offspring;
         opt.threads = threads;
         rbpf::Rbpf<ConstantVelocityClock2> f(h.motion, h.st, h.proc, h.q, h.g, opt);

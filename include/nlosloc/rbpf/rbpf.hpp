@@ -50,7 +50,7 @@ struct RbpfOptions {
   std::uint64_t max_offspring = 4096;  ///< children per particle; N_z^B above it -> bounded enumeration
   bool merge = true;                   ///< apply the merge of eqs. (29)-(30) before selecting
   double merge_threshold = -1.0;       ///< d_min; negative: eq. (31) from the position variance
-  int threads = 1;                     ///< threads of the UKF bank (pool created once)
+  int threads = 1;  ///< pool threads (created once); phases with < 64 parents or updates run on one
   SigmaScheme scheme = SigmaScheme::scaled();  ///< sigma points of the per-particle UKF
 };
 
@@ -265,6 +265,12 @@ class Rbpf {
     return P.diagonal().segment(L.position, L.space_dim).sum();
   }
 
+  /// Threads for a parallel phase over n items: the whole pool from kMinParallel items on, else one. Below
+  /// that, the hand-offs cost more than the second core saves (H2 model: 2 threads are slower at M = 16,
+  /// even at M = 24-48 and faster from M = 64; bench/tools note in the commit).
+  static constexpr int kMinParallel = 64;
+  int active_threads(int n) const { return n >= kMinParallel ? pool_->size() : 1; }
+
   /// Per-thread scratch of the expansion and the UKF bank.
   struct ThreadWork {
     MatX T;
@@ -369,7 +375,8 @@ class Rbpf {
   int expand_reordered(long k, double d_min) {
     std::fill(near_.begin(), near_.end(), 0);
     if (opt_.merge) mark_near_parents(d_min);
-    const int T = pool_->size();
+    const int T = active_threads(count_);
+    expand_threads_ = T;
     pool_->parallel_for(T, [&](int th, int, int) {
       ThreadWork& w = *work_[static_cast<std::size_t>(th)];
       std::exception_ptr err;
@@ -380,7 +387,7 @@ class Rbpf {
       } catch (...) {
         err = std::current_exception();
       }
-      barrier_->arrive_and_wait();  // every thread arrives, even after an exception (no deadlock)
+      barrier_->arrive_and_wait(T);  // every thread arrives, even after an exception (no deadlock)
       if (err) std::rethrow_exception(err);
       enumerate_share(th, T, w);
     });
@@ -530,7 +537,10 @@ class Rbpf {
     cand_.clear();
     for (const int j : sub_)
       if (off_logw_[static_cast<std::size_t>(j)] > -kInf) cand_.push_back(j);
-    for (const auto& w : work_) cand_.insert(cand_.end(), w->cand.begin(), w->cand.end());
+    for (int th = 0; th < expand_threads_; ++th) {
+      const auto& c = work_[static_cast<std::size_t>(th)]->cand;
+      cand_.insert(cand_.end(), c.begin(), c.end());
+    }
     const std::size_t keep = std::min(M, cand_.size());
     if (keep < cand_.size())
       std::nth_element(cand_.begin(), cand_.begin() + static_cast<std::ptrdiff_t>(keep - 1), cand_.end(),
@@ -556,8 +566,9 @@ class Rbpf {
         [&](int b, int e, ThreadWork& w) { accumulate_moments(b, e, w); });
     // eq. (33): w_t = w_t|t-1 p(y_t | s_1:t, y_1:t-1), normalised (log-sum-exp over the threads' sums)
     double z = -kInf;
-    for (const auto& w : work_)
-      if (w->m0 > 0.0) z = log_add(z, w->mmax + std::log(w->m0));
+    for (int th = 0; th < bank_threads_; ++th)
+      if (const auto& w = work_[static_cast<std::size_t>(th)]; w->m0 > 0.0)
+        z = log_add(z, w->mmax + std::log(w->m0));
     if (!std::isfinite(z))
       nlosloc::detail::throw_numerical_error("Rbpf.step: every UKF update failed or had zero likelihood");
     for (int i = 0; i < ns; ++i) nlogw_[static_cast<std::size_t>(i)] -= z;
@@ -565,7 +576,8 @@ class Rbpf {
     State d = State::Zero();
     Cov m2 = Cov::Zero();
     prob_.setZero();
-    for (const auto& w : work_) {
+    for (int th = 0; th < bank_threads_; ++th) {
+      const auto& w = work_[static_cast<std::size_t>(th)];
       if (!(w->m0 > 0.0)) continue;
       const double f = std::exp(w->mmax - z);
       d += f * w->m1;
@@ -672,7 +684,8 @@ class Rbpf {
                 RbpfStepInfo& info, After after) {
     std::fill(thread_fail_.begin(), thread_fail_.end(), 0);
     std::fill(thread_status_.begin(), thread_status_.end(), CholeskyStatus::kOk);
-    const int T = pool_->size();
+    const int T = active_threads(n);
+    bank_threads_ = T;
     {
       double total = 0.0;
       int last = -1;
@@ -801,11 +814,12 @@ class Rbpf {
   std::vector<std::unique_ptr<UkfKernel<Motion, Meas>>> kernels_;
   std::vector<std::unique_ptr<ThreadWork>> work_;
   std::vector<int> thread_fail_;
-  std::vector<int> split_;             // run_bank: first child of each thread (size threads + 1)
-  State centre_;                       // c of accumulate_moments
-  bool xpred_ready_ = false;           // xpred_ holds F x of the current particles
-  bool full_enum_ = false;             // every situation vector is a child (N_z^B <= max_offspring)
-  std::vector<std::uint64_t> pow_nz_;  // N_z^b
+  std::vector<int> split_;                     // run_bank: first child of each thread (size threads + 1)
+  State centre_;                               // c of accumulate_moments
+  int expand_threads_ = 1, bank_threads_ = 1;  // threads of the last expansion / UKF bank
+  bool xpred_ready_ = false;                   // xpred_ holds F x of the current particles
+  bool full_enum_ = false;                     // every situation vector is a child (N_z^B <= max_offspring)
+  std::vector<std::uint64_t> pow_nz_;          // N_z^b
   std::vector<CholeskyStatus> thread_status_;
   MatX Lq_, prob_;
   VecX y_;

@@ -36,16 +36,18 @@ inline void spin_relax(int i) {
 }
 }  // namespace detail
 
-/// Barrier for the threads of one parallel_for(n = size()) region, where each thread runs exactly one
-/// index and all of them run at once: a step can then keep one region across a short serial part instead
-/// of ending it and starting another. Spins (detail::spin_relax); reusable (generation count).
+/// Barrier for the threads of one parallel_for(n) region with n <= size(), where each thread runs exactly
+/// one index and all of them run at once: a step can then keep one region across a short serial part
+/// instead of ending it and starting another. Spins (detail::spin_relax); reusable (generation count).
+/// Every thread of a region passes the same `threads` (= n), at most the constructor's count.
 class SpinBarrier {
  public:
-  explicit SpinBarrier(int threads = 1) : n_(threads) {}
-  void arrive_and_wait() {
-    if (n_ <= 1) return;
+  explicit SpinBarrier(int threads = 1) : max_(threads) {}
+  int max_threads() const { return max_; }
+  void arrive_and_wait(int threads) {
+    if (threads <= 1) return;  // (no throw here: a thread leaving a region early would strand the others)
     const unsigned g = gen_.load(std::memory_order_acquire);
-    if (count_.fetch_add(1, std::memory_order_acq_rel) == n_ - 1) {
+    if (count_.fetch_add(1, std::memory_order_acq_rel) == threads - 1) {
       count_.store(0, std::memory_order_relaxed);
       gen_.fetch_add(1, std::memory_order_release);
       return;
@@ -54,7 +56,7 @@ class SpinBarrier {
   }
 
  private:
-  int n_;
+  int max_;
   std::atomic<int> count_{0};
   std::atomic<unsigned> gen_{0};
 };
