@@ -48,6 +48,19 @@ void decode_situation(std::uint64_t key, int num_conditions, Eigen::MatrixBase<D
   }
 }
 
+namespace detail {
+/// o[0..N_z) = anchor b's conditions by decreasing factor A(b, .), ties in condition order: a stable
+/// insertion sort (N_z is small, and std::stable_sort may allocate a buffer).
+inline void order_conditions(const MatX& A, int b, int* o) {
+  const int nz = static_cast<int>(A.cols());
+  for (int z = 0; z < nz; ++z) {
+    int j = z;
+    for (; j > 0 && A(b, o[j - 1]) < A(b, z); --j) o[j] = o[j - 1];
+    o[j] = z;
+  }
+}
+}  // namespace detail
+
 /// Calls emit(key, sum_b A(b, s_b)) for every s in {0..N_z-1}^B (A is B x N_z, log factors), by an
 /// odometer that updates the running sum in O(1) amortised per child.
 template <class Emit>
@@ -114,13 +127,8 @@ void enumerate_best(const MatX& A, std::uint64_t limit, BestFirstWorkspace& ws, 
     return ws.order[static_cast<std::size_t>(b) * static_cast<std::size_t>(nz) + static_cast<std::size_t>(r)];
   };
   for (int b = 0; b < B; ++b) {
-    auto* o = ws.order.data() + static_cast<std::size_t>(b) * static_cast<std::size_t>(nz);
-    // Stable insertion sort (N_z is small; std::stable_sort may allocate a buffer).
-    for (int z = 0; z < nz; ++z) {
-      int j = z;
-      for (; j > 0 && A(b, o[j - 1]) < A(b, z); --j) o[j] = o[j - 1];
-      o[j] = z;
-    }
+    detail::order_conditions(A, b,
+                             ws.order.data() + static_cast<std::size_t>(b) * static_cast<std::size_t>(nz));
     ws.power[static_cast<std::size_t>(b)] = b == 0 ? 1 : ws.power[static_cast<std::size_t>(b - 1)] * unz;
   }
   // Max-heap by sum, then by the smaller rank vector (deterministic ties).
@@ -201,11 +209,7 @@ void enumerate_above(const MatX& A, double base, const std::uint64_t* pow, int* 
   double bound = base;
   for (int b = 0; b < B; ++b) {
     int* o = opt + static_cast<std::size_t>(b) * static_cast<std::size_t>(nz);
-    for (int z = 0; z < nz; ++z) {  // stable insertion sort (N_z is small)
-      int j = z;
-      for (; j > 0 && A(b, o[j - 1]) < A(b, z); --j) o[j] = o[j - 1];
-      o[j] = z;
-    }
+    detail::order_conditions(A, b, o);
     bound += A(b, o[0]);
   }
   detail::AboveSearch<std::remove_reference_t<Cut>, std::remove_reference_t<Emit>> search{A,  opt, pow, B,
