@@ -81,7 +81,7 @@ class Rbpf {
         quality_(std::move(quality)),
         opt_(options),
         pool_(std::make_unique<ThreadPool>(options.threads)),
-        barrier_(std::make_unique<SpinBarrier>(options.threads)) {
+        barrier_(std::make_unique<SpinBarrier>()) {
     ::nlosloc::detail::check_layout<N>(meas);
     meas.check_ready();
     NLOSLOC_ENSURE(options.num_particles >= 1,

@@ -39,11 +39,9 @@ inline void spin_relax(int i) {
 /// Barrier for the threads of one parallel_for(n) region with n <= size(), where each thread runs exactly
 /// one index and all of them run at once: a step can then keep one region across a short serial part
 /// instead of ending it and starting another. Spins (detail::spin_relax); reusable (generation count).
-/// Every thread of a region passes the same `threads` (= n), at most the constructor's count.
+/// Every thread of a region passes the same `threads` (= n).
 class SpinBarrier {
  public:
-  explicit SpinBarrier(int threads = 1) : max_(threads) {}
-  int max_threads() const { return max_; }
   void arrive_and_wait(int threads) {
     if (threads <= 1) return;  // (no throw here: a thread leaving a region early would strand the others)
     const unsigned g = gen_.load(std::memory_order_acquire);
@@ -56,7 +54,6 @@ class SpinBarrier {
   }
 
  private:
-  int max_;
   std::atomic<int> count_{0};
   std::atomic<unsigned> gen_{0};
 };
@@ -108,7 +105,7 @@ class ThreadPool {
     } catch (...) {
       mine = std::current_exception();
     }
-    for (int i = 0; i < kSpin && pending_.load(std::memory_order_acquire) != 0; ++i) relax(i);
+    for (int i = 0; i < kSpin && pending_.load(std::memory_order_acquire) != 0; ++i) detail::spin_relax(i);
     if (pending_.load(std::memory_order_acquire) != 0) {
       std::unique_lock<std::mutex> lk(m_);
       done_cv_.wait(lk, [this] { return pending_.load(std::memory_order_acquire) == 0; });
@@ -121,7 +118,6 @@ class ThreadPool {
 
  private:
   static constexpr int kSpin = 2000;
-  static void relax(int i) { detail::spin_relax(i); }
   void run_chunk(int t) {
     const int b = static_cast<int>(static_cast<long long>(n_) * t / size_);
     const int e = static_cast<int>(static_cast<long long>(n_) * (t + 1) / size_);
@@ -132,7 +128,7 @@ class ThreadPool {
     for (;;) {
       unsigned long g = gen_.load(std::memory_order_acquire);
       for (int i = 0; i < kSpin && g == seen; ++i) {
-        relax(i);
+        detail::spin_relax(i);
         g = gen_.load(std::memory_order_acquire);
       }
       if (g == seen) {
