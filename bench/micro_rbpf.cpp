@@ -63,13 +63,14 @@ const H2Model& model() {
   return m;
 }
 
-/// args: variant (0 classical, 1 reordered), M, threads
+/// args: variant (0 classical, 1 reordered), M, threads[, noise form (0 additive, 1 augmented: Table III)]
 void BM_Rbpf(benchmark::State& state) {
   const H2Model& h = model();
   rbpf::RbpfOptions opt;
   opt.variant = state.range(0) == 0 ? rbpf::RbpfVariant::kClassical : rbpf::RbpfVariant::kReordered;
   opt.num_particles = static_cast<int>(state.range(1));
   opt.threads = static_cast<int>(state.range(2));
+  opt.noise_form = state.range(3) == 1 ? NoiseForm::kAugmented : NoiseForm::kAdditive;
   rbpf::Rbpf<ConstantVelocityClock2> f(h.motion, h.st, h.proc, h.q, h.init, opt);
   std::size_t k = 0;
   for (int w = 0; w < 50; ++w, ++k) f.step(h.y[k], h.o[k]);  // past the first (single-particle) steps
@@ -85,14 +86,19 @@ void BM_Rbpf(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()));
 }
 // rRBPF-16, rRBPF-128, cRBPF-128 (M = 2 propagated, 2 x 64 = 128 UKF runs), each on 1 and 2 threads
+// and rRBPF-128 / cRBPF-128 with the augmented (Table III) noise form
 BENCHMARK(BM_Rbpf)
-    ->ArgNames({"reordered", "M", "threads"})
-    ->Args({1, 16, 1})
-    ->Args({1, 16, 2})
-    ->Args({1, 128, 1})
-    ->Args({1, 128, 2})
-    ->Args({0, 2, 1})
-    ->Args({0, 2, 2})
+    ->ArgNames({"reordered", "M", "threads", "augmented"})
+    ->Args({1, 16, 1, 0})
+    ->Args({1, 16, 2, 0})
+    ->Args({1, 128, 1, 0})
+    ->Args({1, 128, 2, 0})
+    ->Args({0, 2, 1, 0})
+    ->Args({0, 2, 2, 0})
+    ->Args({1, 128, 1, 1})
+    ->Args({1, 128, 2, 1})
+    ->Args({0, 2, 1, 1})
+    ->Args({0, 2, 2, 1})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 

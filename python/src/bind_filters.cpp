@@ -206,6 +206,10 @@ void measurement_methods(Cls& c) {
 }  // namespace
 
 void bind_filters(py::module_& m) {
+  py::enum_<NoiseForm>(m, "NoiseForm", "How a sigma-point filter treats the measurement noise.")
+      .value("Additive", NoiseForm::kAdditive, "y = g(x) + n with n's exact mean and covariance (Ukf).")
+      .value("Augmented", NoiseForm::kAugmented,
+             "Noise inside the sigma points through each row's quantile (Huerta Table III, UkfAugmented).");
   py::class_<StepResult>(m, "StepResult", "What one update reports.")
       .def_readonly("log_likelihood", &StepResult::log_likelihood,
                     "log p(y_t | y_1:t-1, s), Gaussian predictive over the rows used (Huerta (III.2)).")

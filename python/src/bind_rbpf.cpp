@@ -143,13 +143,14 @@ void bind_rbpf(py::module_& m) {
   py::class_<RbpfOptions>(m, "RbpfOptions", "Settings of Rbpf.")
       .def(py::init<>())
       .def(py::init([](RbpfVariant variant, int num_particles, std::uint64_t max_offspring, bool merge,
-                       double merge_threshold, int threads, const SigmaScheme& scheme) {
+                       double merge_threshold, int threads, const SigmaScheme& scheme, NoiseForm noise_form) {
              return RbpfOptions{variant,         num_particles, max_offspring, merge,
-                                merge_threshold, threads,       scheme};
+                                merge_threshold, threads,       scheme,        noise_form};
            }),
            py::arg("variant") = RbpfVariant::kReordered, py::arg("num_particles") = 16,
            py::arg("max_offspring") = 4096, py::arg("merge") = true, py::arg("merge_threshold") = -1.0,
-           py::arg("threads") = 1, py::arg("scheme") = SigmaScheme::scaled())
+           py::arg("threads") = 1, py::arg("scheme") = SigmaScheme::scaled(),
+           py::arg("noise_form") = NoiseForm::kAdditive)
       .def_readwrite("variant", &RbpfOptions::variant)
       .def_readwrite("num_particles", &RbpfOptions::num_particles, "M, particles propagated (>= 1).")
       .def_readwrite("max_offspring", &RbpfOptions::max_offspring,
@@ -157,7 +158,10 @@ void bind_rbpf(py::module_& m) {
       .def_readwrite("merge", &RbpfOptions::merge)
       .def_readwrite("merge_threshold", &RbpfOptions::merge_threshold, "d_min; negative: eq. (31).")
       .def_readwrite("threads", &RbpfOptions::threads)
-      .def_readwrite("scheme", &RbpfOptions::scheme);
+      .def_readwrite("scheme", &RbpfOptions::scheme)
+      .def_readwrite("noise_form", &RbpfOptions::noise_form,
+                     "UKF noise: Additive moments (default, one sigma set per parent) or Augmented "
+                     "(Table III's noise sigma set, one sigma set per child).");
 
   py::class_<RbpfStepInfo>(m, "RbpfStepInfo", "What one RBPF step reports.")
       .def_readonly("log_likelihood", &RbpfStepInfo::log_likelihood)

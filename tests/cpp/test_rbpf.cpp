@@ -227,9 +227,12 @@ struct Tiny {
   Gaussian<4> g;
   MatX T;
   std::vector<VecX> ys, os;
-  Tiny() : st(ConstantVelocity2::layout(), anchors(), 2) {
-    st.add_toa(0, {nn::Normal(0, 2), nn::Normal(20, 10)});
-    st.add_toa(1, {nn::Normal(0, 2), nn::Normal(20, 10)});
+  /// rayleigh: NLOS noise Rayleigh(15) instead of Normal(20, 10), skewed so the noise forms differ.
+  explicit Tiny(bool rayleigh = false) : st(ConstantVelocity2::layout(), anchors(), 2) {
+    const nn::Distribution nlos =
+        rayleigh ? nn::Distribution(nn::Rayleigh(15.0)) : nn::Distribution(nn::Normal(20, 10));
+    st.add_toa(0, {nn::Normal(0, 2), nlos});
+    st.add_toa(1, {nn::Normal(0, 2), nlos});
     T.resize(2, 2);
     T << 0.8, 0.2, 0.3, 0.7;
     VecX pi(2);
@@ -249,9 +252,11 @@ struct Tiny {
     a << 100, 0, 0, 80;
     return a;
   }
-  /// log prior of the history (first step: pi T) times quality, and the UKF chain along it.
+  /// log prior of the history (first step: pi T) times quality, and the UKF chain along it (Filter: Ukf
+  /// for the additive noise form, UkfAugmented for Table III's noise sigma set).
+  template <template <class, class> class Filter = Ukf>
   double history_logw(const std::vector<VecXi>& h, Vec<4>* mean) const {
-    Ukf<ConstantVelocity2> f(motion, st, g);
+    Filter<ConstantVelocity2, MeasurementStack> f(motion, st, g);
     double lw = 0.0;
     const VecX pi = proc.model(0).initial();
     for (std::size_t k = 0; k < h.size(); ++k) {
@@ -333,6 +338,70 @@ TEST_CASE("classical RBPF weights equal a brute-force enumeration (B=2, N_z=2, t
       }
     }
   }
+}
+
+TEST_CASE("classical RBPF, augmented noise (Table III): weights equal a brute force over UkfAugmented",
+          "[rbpf]") {
+  const Tiny tc(true);  // Rayleigh NLOS: median != mean, so the two noise forms give different weights
+  RbpfOptions opt;
+  opt.variant = RbpfVariant::kClassical;
+  opt.num_particles = 64;
+  opt.merge = false;
+  opt.noise_form = NoiseForm::kAugmented;
+  Rbpf<ConstantVelocity2> f(tc.motion, tc.st, tc.proc, tc.q, tc.g, opt);
+  RbpfOptions add = opt;
+  add.noise_form = NoiseForm::kAdditive;
+  Rbpf<ConstantVelocity2> fa(tc.motion, tc.st, tc.proc, tc.q, tc.g, add);
+  for (int k = 0; k < 3; ++k) {
+    f.step(tc.ys[static_cast<std::size_t>(k)], tc.os[static_cast<std::size_t>(k)]);
+    fa.step(tc.ys[static_cast<std::size_t>(k)], tc.os[static_cast<std::size_t>(k)]);
+  }
+  REQUIRE(f.num_particles() == 64);
+  std::vector<double> lw;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b)
+      for (int c = 0; c < 4; ++c) lw.push_back(tc.history_logw<UkfAugmented>({sv(a), sv(b), sv(c)}, nullptr));
+  const double z = log_sum_exp(Eigen::Map<VecX>(lw.data(), 64));
+  std::vector<double> got, want, other;
+  for (int i = 0; i < 64; ++i) {
+    got.push_back(f.log_weight(i));
+    other.push_back(fa.log_weight(i));
+  }
+  for (double v : lw) want.push_back(v - z);
+  std::sort(got.begin(), got.end());
+  std::sort(want.begin(), want.end());
+  std::sort(other.begin(), other.end());
+  double gap = 0.0;
+  for (int i = 0; i < 64; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    CHECK_THAT(got[u], WithinAbs(want[u], 1e-6));
+    gap = std::max(gap, std::abs(other[u] - want[u]));
+  }
+  CHECK(gap > 1e-2);  // the additive form is a different filter here: the test can tell them apart
+}
+
+TEST_CASE("UKF kernel, augmented form: equals UkfAugmented's predict + update, options are checked",
+          "[rbpf]") {
+  const Tiny tc(true);
+  UkfKernel<ConstantVelocity2> ker(tc.st, SigmaScheme::scaled(), NoiseForm::kAugmented);
+  UkfAugmented<ConstantVelocity2> ref(tc.motion, tc.st, tc.g);
+  for (int c = 0; c < 4; ++c) {
+    const VecXi s = sv(c);
+    UkfAugmented<ConstantVelocity2> r = ref;
+    const StepResult want = r.step(tc.ys[0], s);
+    REQUIRE(ker.prepare(tc.motion, tc.st, tc.g.mean, tc.g.cov, 0.5) == CholeskyStatus::kOk);
+    Vec<4> x;
+    Mat<4, 4> P;
+    StepResult got;
+    REQUIRE(ker.finish(s, tc.ys[0], x, P, got));
+    CHECK_THAT(got.log_likelihood, WithinAbs(want.log_likelihood, 1e-10));
+    CHECK((x - r.mean()).cwiseAbs().maxCoeff() < 1e-10);
+    CHECK((P - r.cov()).cwiseAbs().maxCoeff() < 1e-10);
+  }
+  RbpfOptions bad;
+  bad.noise_form = static_cast<NoiseForm>(7);
+  CHECK_THROWS_WITH(Rbpf<ConstantVelocity2>(tc.motion, tc.st, tc.proc, tc.q, tc.g, bad),
+                    "options.noise_form: unknown NoiseForm");
 }
 
 TEST_CASE("reordered RBPF: weights of eqs. 32-33 and merge of identical parents", "[rbpf]") {

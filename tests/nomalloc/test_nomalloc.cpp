@@ -182,16 +182,18 @@ TEST_CASE("IUKF, RBPF and PF steps do not allocate", "[nomalloc]") {
   CHECK(news_in_steps(h, [&iukf](const VecX& y, const VecX& o) { iukf.step_quality(y, o); }) == 0);
   for (auto variant : {rbpf::RbpfVariant::kReordered, rbpf::RbpfVariant::kClassical})
     for (std::uint64_t max_offspring : {std::uint64_t{4096}, std::uint64_t{20}})  // full and bounded (eq. 23)
-      for (int threads : {1, 2}) {
-        CAPTURE(static_cast<int>(variant), max_offspring, threads);
-        rbpf::RbpfOptions opt;
-        opt.variant = variant;
-        opt.num_particles = variant == rbpf::RbpfVariant::kReordered ? 64 : 2;  // 64: parallel phases
-        opt.max_offspring = max_offspring;
-        opt.threads = threads;
-        rbpf::Rbpf<ConstantVelocityClock2> f(h.motion, h.st, h.proc, h.q, h.g, opt);
-        CHECK(news_in_steps(f, h) == 0);
-      }
+      for (int threads : {1, 2})
+        for (auto form : {NoiseForm::kAdditive, NoiseForm::kAugmented}) {
+          CAPTURE(static_cast<int>(variant), max_offspring, threads, static_cast<int>(form));
+          rbpf::RbpfOptions opt;
+          opt.variant = variant;
+          opt.noise_form = form;
+          opt.num_particles = variant == rbpf::RbpfVariant::kReordered ? 64 : 2;  // 64: parallel phases
+          opt.max_offspring = max_offspring;
+          opt.threads = threads;
+          rbpf::Rbpf<ConstantVelocityClock2> f(h.motion, h.st, h.proc, h.q, h.g, opt);
+          CHECK(news_in_steps(f, h) == 0);
+        }
   for (auto resampling : {rbpf::PfResampling::kSystematic, rbpf::PfResampling::kMergeSelect})
     for (int threads : {1, 2}) {
       CAPTURE(static_cast<int>(resampling), threads);

@@ -116,3 +116,51 @@ def test_gcrb_below_crb():
     assert r.J.shape == (3, 3)
     with pytest.raises(ValueError, match="sigma_tau2"):
         bounds.gcrb_rtoa(ANCHORS, np.zeros(2), np.eye(6), -1.0)
+
+
+def test_rbpf_augmented_noise_form_matches_ukf_augmented():
+    """Classical RBPF, one step, every child kept: with noise_form=Augmented each particle is the
+    Table III UKF (filters.UkfAugmented) under its situation, and its weight is prior x quality x
+    that UKF's predictive likelihood (eq. 25); the default additive form is a different filter."""
+    from nlosloc import filters
+
+    anchors = np.array([[100.0, 0.0], [0.0, 80.0]])
+    motion = models.ConstantVelocity2(0.5, 1.0)
+    st = models.MeasurementStack(models.ConstantVelocity2.layout(), anchors, 2)
+    for b in range(2):
+        st.add_toa(b, [noise.Normal(0.0, 2.0), noise.Rayleigh(15.0)])
+    T = np.array([[0.8, 0.2], [0.3, 0.7]])
+    pi = np.array([0.6, 0.4])
+    sight = situation.SightProcess(situation.SightModel.fixed(T, 1, pi), 2)
+    quality = situation.QualityModel([noise.Normal(0.8, 0.2), noise.Normal(0.3, 0.2)])
+    x0 = np.array([10.0, 20.0, 1.0, 0.0])
+    p0 = np.diag([25.0, 25.0, 1.0, 1.0])
+    y, o = np.array([91.0, 62.0]), np.array([0.75, 0.4])
+    prior = pi @ T  # first step: p(s_1) = pi T (rbpf.hpp)
+
+    def run(form):
+        opt = rbpf.RbpfOptions(
+            variant=rbpf.RbpfVariant.Classical, num_particles=4, merge=False, noise_form=form
+        )
+        f = rbpf.Rbpf(motion, st, sight, quality, x0, p0, opt)
+        f.step(y, o)
+        return f
+
+    f = run(filters.NoiseForm.Augmented)
+    assert f.num_particles == 4
+    want_logw = []
+    for i in range(4):
+        s = f.particle_situation(i)
+        ref = filters.UkfAugmented(motion, st, x0, p0)
+        res = ref.step(y, s)
+        np.testing.assert_allclose(f.particle_mean(i), ref.mean, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(f.particle_cov(i), ref.cov, rtol=0, atol=1e-9)
+        lw = res.log_likelihood
+        for b in range(2):
+            lw += np.log(prior[s[b]]) + quality.log_likelihood(o[b], int(s[b]))
+        want_logw.append(lw)
+    want = np.exp(np.array(want_logw) - np.logaddexp.reduce(want_logw))
+    np.testing.assert_allclose(f.weights, want, rtol=1e-9)
+    add = run(filters.NoiseForm.Additive)
+    assert np.max(np.abs(np.sort(add.weights) - np.sort(f.weights))) > 1e-3
+    assert rbpf.RbpfOptions().noise_form == filters.NoiseForm.Additive

@@ -72,7 +72,71 @@ class SigmaMoments {
   Eigen::Matrix<double, Eigen::Dynamic, K, Eigen::RowMajor> Z_;
   Eigen::Matrix<double, 1, K> wc_;
 };
+
+/// Unscented moments with the measurement noise inside the sigma points (Huerta Table III, eqs. 49-51 over
+/// the augmented vector [x; u], u ~ N(0, I_q) mapped through each row's quantile, Grisales eq. 29): from
+/// (x, L) and the sight `s`, z_hat, S (noise included) and Pxz. Shared by UkfAugmented and the RBPF bank.
+template <int N>
+class AugmentedMoments {
+ public:
+  void resize(int m, int q) {
+    q_ = q;
+    const int K = 2 * (N + q) + 1;
+    Z_.setZero(m, K);
+    Zw_.setZero(m, K);
+    D_.setZero(m, N);
+    u_.setZero(q);
+  }
+
+  /// `w` are the weights of dimension N + q (eq. 49 with L_a = n + q).
+  template <class Meas>
+  void compute(const Meas& meas, const Vec<N>& x, const Mat<N, N>& L, const SigmaWeights& w, double t,
+               const VecXi& s, VecX& zhat, MatX& S, Eigen::Matrix<double, N, Eigen::Dynamic>& Pxz) {
+    const double g = w.gamma;
+    // Points of blockdiag(P, I_q) around (x, 0): state directions, then noise directions (eq. 49).
+    u_.setZero();
+    auto eval = [&](const Vec<N>& xj, Eigen::Index col) {
+      auto z = Z_.col(col);
+      meas.predict_augmented(xj, t, u_, s, z);
+    };
+    eval(x, 0);
+    for (int i = 0; i < N; ++i) {
+      eval(x + g * L.col(i), 1 + i);
+      eval(x - g * L.col(i), 1 + N + q_ + i);
+    }
+    for (int k = 0; k < q_; ++k) {
+      u_[k] = g;
+      eval(x, 1 + N + k);
+      u_[k] = -g;
+      eval(x, 1 + 2 * N + q_ + k);
+      u_[k] = 0.0;
+    }
+    sigma_mean(meas, Z_, w, zhat);  // eq. (51)
+    for (Eigen::Index j = 0; j < Z_.cols(); ++j) Z_.col(j) -= zhat;
+    meas.wrap_residual_cols(Z_);
+    const int Laug = N + q_;
+    Zw_ = Z_;
+    Zw_.col(0) *= w.wc0;
+    Zw_.rightCols(Z_.cols() - 1) *= w.wi;
+    S.noalias() = Zw_.lazyProduct(Z_.transpose());  // eq. (51), noise inside the points
+    // Only the state directions have x deviations, +-g L(:,i): Pxz = sum_i wi g L(:,i) (Z+i - Z-i)^T.
+    for (int i = 0; i < N; ++i) D_.col(i) = Z_.col(1 + i) - Z_.col(1 + Laug + i);
+    Pxz.noalias() = (w.wi * g) * L.lazyProduct(D_.transpose());
+  }
+
+ private:
+  int q_ = 0;
+  MatX Z_, Zw_;
+  Eigen::Matrix<double, Eigen::Dynamic, N> D_;
+  VecX u_;
+};
 }  // namespace detail
+
+/// How a sigma-point filter treats the measurement noise.
+enum class NoiseForm {
+  kAdditive = 0,  ///< y = g(x) + n with n's exact mean and covariance under the sight (Ukf)
+  kAugmented = 1  ///< noise inside the sigma points through each row's quantile (Huerta Table III)
+};
 
 /// UKF with additive measurement noise: y = g(x) + n, n with the mean and covariance of each row's
 /// distribution under the current sight (Huerta Table VI per condition; Julier/Wan-van der Merwe UT).
@@ -164,12 +228,8 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
     q_ = meas.noise_dim();
     w_ = scheme.weights(kDim + q_);  // L_a = n + q (Huerta eq. 49)
     const int m = meas.rows();
-    const int K = 2 * (kDim + q_) + 1;
     tail_.resize(m);
-    Z_.setZero(m, K);
-    Zw_.setZero(m, K);
-    D_.setZero(m, kDim);
-    u_.setZero(q_);
+    mom_.resize(m, q_);
     y_.setZero(m);
     los_.setZero(meas.num_anchors());
   }
@@ -194,37 +254,8 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
     const CholeskyStatus st = detail::factor_state_cov(this->P_, L, &res.jitter);
     res.status = st;
     if (st == CholeskyStatus::kFailed) Base::fail("UkfAugmented.update: P");
-    const double g = w_.gamma;
-    // Points of blockdiag(P, I_q) around (x, 0): state directions, then noise directions (eq. 49).
-    u_.setZero();
-    auto eval = [&](const Vec<kDim>& x, Eigen::Index col) {
-      auto z = Z_.col(col);
-      meas_.predict_augmented(x, this->t_, u_, s, z);
-    };
-    eval(this->x_, 0);
-    for (int i = 0; i < kDim; ++i) {
-      eval(this->x_ + g * L.col(i), 1 + i);
-      eval(this->x_ - g * L.col(i), 1 + kDim + q_ + i);
-    }
-    for (int k = 0; k < q_; ++k) {
-      u_[k] = g;
-      eval(this->x_, 1 + kDim + k);
-      u_[k] = -g;
-      eval(this->x_, 1 + 2 * kDim + q_ + k);
-      u_[k] = 0.0;
-    }
     auto& t = tail_;
-    detail::sigma_mean(meas_, Z_, w_, t.zhat);  // eq. (51)
-    for (Eigen::Index j = 0; j < Z_.cols(); ++j) Z_.col(j) -= t.zhat;
-    meas_.wrap_residual_cols(Z_);
-    const int Laug = kDim + q_;
-    Zw_ = Z_;
-    Zw_.col(0) *= w_.wc0;
-    Zw_.rightCols(Z_.cols() - 1) *= w_.wi;
-    t.S.noalias() = Zw_.lazyProduct(Z_.transpose());  // eq. (51), noise inside the points
-    // Only the state directions have x deviations, +-g L(:,i): Pxz = sum_i wi g L(:,i) (Z+i - Z-i)^T.
-    for (int i = 0; i < kDim; ++i) D_.col(i) = Z_.col(1 + i) - Z_.col(1 + Laug + i);
-    t.Pxz.noalias() = (w_.wi * g) * L.lazyProduct(D_.transpose());
+    mom_.compute(meas_, this->x_, L, w_, this->t_, s, t.zhat, t.S, t.Pxz);  // Table III, eqs. (49)-(51)
     if (!t.apply(
             y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
       Base::fail("UkfAugmented.update: S");
@@ -240,9 +271,8 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
   SigmaScheme scheme_;
   SigmaWeights w_;
   int q_ = 0;
-  MatX Z_, Zw_;
-  Eigen::Matrix<double, Eigen::Dynamic, kDim> D_;
-  VecX u_, y_;
+  detail::AugmentedMoments<kDim> mom_;
+  VecX y_;
   VecXi los_;
   detail::UpdateTail<kDim> tail_;
 };

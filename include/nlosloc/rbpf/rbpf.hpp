@@ -7,8 +7,11 @@
 /// prior and quality statistic, merge/select, then UKF only the M survivors).
 ///
 /// Choices the paper leaves open (documented here and in the report):
-///  - the UKF is the additive-noise form with each row's exact noise mean and variance under the particle's
-///    situation (Ukf of filters/ukf.hpp); eq. (25)'s likelihood is its Gaussian predictive N(y; y_hat, S);
+///  - the UKF is by default the additive-noise form with each row's exact noise mean and variance under the
+///    particle's situation (Ukf of filters/ukf.hpp): the sigma points of a parent serve all its children.
+///    RbpfOptions::noise_form = kAugmented runs Table III as written, the noise sigma set inside the points
+///    (UkfAugmented), at one full sigma-point evaluation per child. Either way eq. (25)'s likelihood is the
+///    Gaussian predictive N(y; y_hat, S);
 ///  - the first step has no previous situation: its transition prior is the chains' prior propagated once,
 ///    p(s_1) = pi T (the particle set starts as one particle of weight one);
 ///  - in the reordered order the children are compared (eq. 29) by their predicted means F x_{t-1};
@@ -51,7 +54,8 @@ struct RbpfOptions {
   bool merge = true;                   ///< apply the merge of eqs. (29)-(30) before selecting
   double merge_threshold = -1.0;       ///< d_min; negative: eq. (31) from the position variance
   int threads = 1;  ///< pool threads (created once); phases with < 64 parents or updates run on one
-  SigmaScheme scheme = SigmaScheme::scaled();  ///< sigma points of the per-particle UKF
+  SigmaScheme scheme = SigmaScheme::scaled();   ///< sigma points of the per-particle UKF
+  NoiseForm noise_form = NoiseForm::kAdditive;  ///< UKF noise: moments (default) or sigma set (Table III)
 };
 
 /// What one RBPF step reports.
@@ -89,6 +93,8 @@ class Rbpf {
     NLOSLOC_ENSURE(options.max_offspring >= 1, "options.max_offspring: expected >= 1");
     NLOSLOC_ENSURE(options.variant == RbpfVariant::kClassical || options.variant == RbpfVariant::kReordered,
                    "options.variant: unknown RbpfVariant");
+    NLOSLOC_ENSURE(options.noise_form == NoiseForm::kAdditive || options.noise_form == NoiseForm::kAugmented,
+                   "options.noise_form: unknown NoiseForm");
     NLOSLOC_ENSURE(std::isfinite(options.merge_threshold),
                    "options.merge_threshold: expected a finite value");
     NLOSLOC_ENSURE(sight_.num_anchors() == meas.num_anchors(),
@@ -100,7 +106,7 @@ class Rbpf {
                    "quality: expected " + std::to_string(meas.num_conditions()) + " conditions");
     NLOSLOC_ENSURE(!sight_.speed_dependent() || meas.layout().velocity >= 0,
                    "sight: a speed-dependent chain needs a velocity in the state layout");
-    options.scheme.validate(N);
+    options.scheme.validate(options.noise_form == NoiseForm::kAugmented ? N + meas.noise_dim() : N);
     B_ = meas.num_anchors();
     nz_ = meas.num_conditions();
     const std::uint64_t total = situation_count(nz_, B_);
@@ -143,7 +149,8 @@ class Rbpf {
     byx_.reserve(static_cast<std::size_t>(M));
     apar_.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
     for (int t = 0; t < pool_->size(); ++t) {
-      kernels_.emplace_back(std::make_unique<UkfKernel<Motion, Meas>>(meas_, options.scheme));
+      kernels_.emplace_back(
+          std::make_unique<UkfKernel<Motion, Meas>>(meas_, options.scheme, options.noise_form));
       auto w = std::make_unique<ThreadWork>();
       w->T.resize(nz_, nz_);
       w->speeds.setZero(B_);

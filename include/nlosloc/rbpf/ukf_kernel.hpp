@@ -1,11 +1,14 @@
 #pragma once
 /// \file ukf_kernel.hpp
-/// The per-particle UKF of the RBPF bank (Huerta Table III, additive-noise form) as a workspace that
-/// updates a bare (mean, covariance) pair, so a bank of thousands of particles needs no filter objects.
-/// Split in two stages because, with additive noise, the sigma points of a parent and their images g(X)
-/// do not depend on the situation vector: prepare() predicts and evaluates them once per parent, finish()
-/// adds the situation's noise moments and applies the Kalman update (one small Cholesky per offspring).
-/// The math is that of nlosloc::Ukf::update (same sigma points from the predicted belief, same tail).
+/// The per-particle UKF of the RBPF bank (Huerta Table III) as a workspace that updates a bare (mean,
+/// covariance) pair, so a bank of thousands of particles needs no filter objects. Split in two stages:
+/// prepare() predicts once per parent, finish() updates one offspring.
+///  - NoiseForm::kAdditive (default): the sigma points of a parent and their images g(X) do not depend on
+///    the situation vector, so prepare() evaluates them once; finish() adds the situation's noise moments
+///    and applies the Kalman update (one small Cholesky per offspring). Math of nlosloc::Ukf::update.
+///  - NoiseForm::kAugmented: Table III as written, the noise sigma set N_s inside the points (III.1). The
+///    images depend on s (quantile maps), so finish() evaluates all 2(n + q) + 1 points per offspring:
+///    dearer, and exact for skewed NLOS noise (Rayleigh median != mean). Math of UkfAugmented::update.
 #include "nlosloc/core/sigma_points.hpp"
 #include "nlosloc/filters/common.hpp"
 #include "nlosloc/filters/ukf.hpp"
@@ -22,10 +25,14 @@ class UkfKernel {
 
   /// Buffers sized for `meas`; later calls must pass a stack with the same rows (it may be another copy:
   /// the kernel keeps no reference between prepare() calls, so the owning filter stays movable).
-  UkfKernel(const Meas& meas, const SigmaScheme& scheme) : meas_(&meas), w_(scheme.weights(N)) {
+  UkfKernel(const Meas& meas, const SigmaScheme& scheme, NoiseForm form = NoiseForm::kAdditive)
+      : meas_(&meas), form_(form) {
     const int m = meas.rows();
+    // Augmented: L_a = n + q (Huerta eq. 49), so the state points spread wider than in the additive form.
+    w_ = scheme.weights(form == NoiseForm::kAugmented ? N + meas.noise_dim() : N);
     tail_.resize(m);
     mom_.resize(m);
+    if (form == NoiseForm::kAugmented) aug_.resize(m, meas.noise_dim());
     S0_.setZero(m, m);
     Pxz0_.setZero(N, m);
     zhat0_.setZero(m);
@@ -33,9 +40,10 @@ class UkfKernel {
     R_.setZero(m, m);
   }
 
-  /// Stage 1 (Table III, first three items): x_p = F x, P_p = F P F^T + Q (exact, linear motion), sigma
-  /// points of (x_p, P_p) (eq. 49) and their predicted observations g(X) at time t. Returns the Cholesky
-  /// status; kFailed leaves the kernel unusable until the next prepare().
+  /// Stage 1 (Table III, first three items): x_p = F x, P_p = F P F^T + Q (exact, linear motion) and the
+  /// factor of P_p; additive form: also the sigma points of (x_p, P_p) (eq. 49) and their predicted
+  /// observations g(X) at time t. Returns the Cholesky status; kFailed leaves the kernel unusable until
+  /// the next prepare().
   CholeskyStatus prepare(const Motion& motion, const Meas& meas, const Vec<N>& x, const Mat<N, N>& P,
                          double t) {
     meas_ = &meas;
@@ -43,10 +51,10 @@ class UkfKernel {
     Pp_.noalias() = motion.F() * P * motion.F().transpose();
     Pp_ += motion.Q();
     nlosloc::detail::symmetrize(Pp_);
-    Mat<N, N> L;
-    status_ = nlosloc::detail::factor_state_cov(Pp_, L, &jitter_);
-    if (status_ == CholeskyStatus::kFailed) return status_;
-    mom_.compute(*meas_, xp_, L, w_, t, zhat0_, S0_, Pxz0_);  // Huerta eqs. (49)-(51), no noise
+    t_ = t;
+    status_ = nlosloc::detail::factor_state_cov(Pp_, L_, &jitter_);
+    if (status_ == CholeskyStatus::kFailed || form_ == NoiseForm::kAugmented) return status_;
+    mom_.compute(*meas_, xp_, L_, w_, t, zhat0_, S0_, Pxz0_);  // Huerta eqs. (49)-(51), no noise
     return status_;
   }
 
@@ -57,15 +65,20 @@ class UkfKernel {
     res = StepResult{};
     res.status = status_;
     res.jitter = jitter_;
-    meas_->noise_moments(xp_, s, nmean_, R_);
     auto& t = tail_;
+    x_out = xp_;
+    P_out = Pp_;
+    if (form_ == NoiseForm::kAugmented) {
+      aug_.compute(*meas_, xp_, L_, w_, t_, s, t.zhat, t.S, t.Pxz);  // Table III.1, eqs. (49)-(51)
+      return t.apply(
+          y, [this](VecX& r) { meas_->wrap_residual(r); }, x_out, P_out, res);
+    }
+    meas_->noise_moments(xp_, s, nmean_, R_);
     t.S = S0_;
     t.S += R_;
     t.Pxz = Pxz0_;
     t.zhat = zhat0_;
     t.zhat += nmean_;
-    x_out = xp_;
-    P_out = Pp_;
     return t.apply(
         y, [this](VecX& r) { meas_->wrap_residual(r); }, x_out, P_out, res);
   }
@@ -76,10 +89,13 @@ class UkfKernel {
 
  private:
   const Meas* meas_;
+  NoiseForm form_;
   SigmaWeights w_;
+  double t_ = 0.0;
   Vec<N> xp_;
-  Mat<N, N> Pp_;
+  Mat<N, N> Pp_, L_;
   nlosloc::detail::SigmaMoments<N> mom_;
+  nlosloc::detail::AugmentedMoments<N> aug_;
   MatX S0_, R_;
   Eigen::Matrix<double, N, Eigen::Dynamic> Pxz0_;
   VecX zhat0_, nmean_;

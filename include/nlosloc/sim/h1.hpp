@@ -181,6 +181,7 @@ class H1 : public Scenario {
   static constexpr const char* kEkf = "EKF-LOS";
   static constexpr const char* kIukf = "IUKF";
   static constexpr const char* kRbpf = "rRBPF-8";
+  static constexpr const char* kRbpfAug = "rRBPF-8-aug";  ///< the same with Table III's noise sigma set
 
   explicit H1(const H1Params& p = H1Params())
       : p_(p),
@@ -338,14 +339,17 @@ inline std::unique_ptr<Estimator> make_h1_iukf(const H1& s, int /*case_index*/) 
 }
 
 /// H1 "rRBPF-8": reordered RBPF (Huerta Table V) with M = 8, sight chain eq. (17), quality likelihoods.
-inline std::unique_ptr<Estimator> make_h1_rbpf(const H1& s, int /*case_index*/) {
+inline std::unique_ptr<Estimator> make_h1_rbpf(const H1& s, int /*case_index*/,
+                                               NoiseForm form = NoiseForm::kAdditive) {
   rbpf::RbpfOptions o;
   o.variant = rbpf::RbpfVariant::kReordered;
   o.num_particles = s.params().rbpf_particles;
+  o.noise_form = form;
   return std::make_unique<RbpfEstimator<ConstantVelocity2>>(
-      H1::kRbpf, std::make_unique<rbpf::Rbpf<ConstantVelocity2>>(
-                     s.motion(), s.measurements(), s.sight_process(), situation::QualityModel(s.quality()),
-                     Gaussian<4>(), o));
+      form == NoiseForm::kAugmented ? H1::kRbpfAug : H1::kRbpf,
+      std::make_unique<rbpf::Rbpf<ConstantVelocity2>>(s.motion(), s.measurements(), s.sight_process(),
+                                                      situation::QualityModel(s.quality()), Gaussian<4>(),
+                                                      o));
 }
 
 /// Registers H1 and its estimators (one line each).
@@ -354,7 +358,9 @@ inline void register_h1(Registry& r) {
   r.add_estimator<H1>("H1", H1::kMle, make_h1_mle);
   r.add_estimator<H1>("H1", H1::kEkf, make_h1_ekf);
   r.add_estimator<H1>("H1", H1::kIukf, make_h1_iukf);
-  r.add_estimator<H1>("H1", H1::kRbpf, make_h1_rbpf);
+  r.add_estimator<H1>("H1", H1::kRbpf, [](const H1& s, int c) { return make_h1_rbpf(s, c); });
+  r.add_estimator<H1>("H1", H1::kRbpfAug,
+                      [](const H1& s, int c) { return make_h1_rbpf(s, c, NoiseForm::kAugmented); });
 }
 
 }  // namespace nlosloc::sim

@@ -3,7 +3,8 @@
 /// Scenario H2 of reference/scenarios.md: Huerta et al. 2009 (papers/huerta2009-rbpf-iukf.md) Sec. VI-B,
 /// Simulation 2: six anchors on a hexagon of 3 km side, RTOA with an unsynchronised mobile (clock bias and
 /// drift in the state, eq. 5), random-walk motion, LOS/NLOS with E{L_LOS} = E{L_NLOS} = 10 m; and the
-/// estimators the paper compares there: EKF-LOS, CHEN, CONG, URR, IUKF, cRBPF-128, rRBPF-16, rRBPF-128, PF.
+/// estimators the paper compares there: EKF-LOS, CHEN, CONG, URR, IUKF, cRBPF-128, rRBPF-16, rRBPF-128, PF;
+/// plus rRBPF-128-aug, rRBPF-128 with Table III's noise sigma set (RbpfOptions::noise_form).
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -55,6 +56,7 @@ class H2 : public Scenario {
   static constexpr const char* kCrbpf128 = "cRBPF-128";
   static constexpr const char* kRrbpf16 = "rRBPF-16";
   static constexpr const char* kRrbpf128 = "rRBPF-128";
+  static constexpr const char* kRrbpf128Aug = "rRBPF-128-aug";  ///< with Table III's noise sigma set
   static constexpr const char* kPf = "PF";
 
   explicit H2(const H2Params& p = H2Params())
@@ -245,10 +247,11 @@ inline std::unique_ptr<Estimator> make_h2_iukf(const H2& s, int /*case_index*/) 
 
 /// H2 RBPF of Huerta Sec. VI-B: `variant` classical (Table IV) or reordered (Table V) with M particles.
 inline std::unique_ptr<Estimator> make_h2_rbpf(const H2& s, const char* name, rbpf::RbpfVariant variant,
-                                               int M) {
+                                               int M, NoiseForm form = NoiseForm::kAdditive) {
   rbpf::RbpfOptions o;
   o.variant = variant;
   o.num_particles = M;
+  o.noise_form = form;
   return std::make_unique<RbpfEstimator<ConstantVelocityClock2>>(
       name, std::make_unique<rbpf::Rbpf<ConstantVelocityClock2>>(
                 s.motion(), s.measurements(), s.sight_process(), situation::QualityModel(s.quality()),
@@ -265,6 +268,11 @@ inline std::unique_ptr<Estimator> make_h2_rrbpf16(const H2& s, int /*case_index*
 /// H2 "rRBPF-128": reordered RBPF, M = 128.
 inline std::unique_ptr<Estimator> make_h2_rrbpf128(const H2& s, int /*case_index*/) {
   return make_h2_rbpf(s, H2::kRrbpf128, rbpf::RbpfVariant::kReordered, 128);
+}
+/// H2 "rRBPF-128-aug": rRBPF-128 with the UKF of Table III as written (noise sigma set, UkfAugmented):
+/// the Rayleigh NLOS noise enters through its quantile map instead of its mean and variance.
+inline std::unique_ptr<Estimator> make_h2_rrbpf128_aug(const H2& s, int /*case_index*/) {
+  return make_h2_rbpf(s, H2::kRrbpf128Aug, rbpf::RbpfVariant::kReordered, 128, NoiseForm::kAugmented);
 }
 
 /// H2 "PF": joint particle filter over (x, s) with 1e6 particles and the paper's merge-and-select
@@ -289,6 +297,7 @@ inline void register_h2(Registry& r) {
   r.add_estimator<H2>("H2", H2::kCrbpf128, make_h2_crbpf128);
   r.add_estimator<H2>("H2", H2::kRrbpf16, make_h2_rrbpf16);
   r.add_estimator<H2>("H2", H2::kRrbpf128, make_h2_rrbpf128);
+  r.add_estimator<H2>("H2", H2::kRrbpf128Aug, make_h2_rrbpf128_aug);
   r.add_estimator<H2>("H2", H2::kPf, make_h2_pf);
 }
 

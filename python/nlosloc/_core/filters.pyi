@@ -7,7 +7,54 @@ import nlosloc._core.models
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Ekf', 'Kf', 'StepResult', 'Ukf', 'UkfAugmented']
+__all__: list[str] = ['Ekf', 'Kf', 'NoiseForm', 'StepResult', 'Ukf', 'UkfAugmented']
+class NoiseForm:
+    """
+    How a sigma-point filter treats the measurement noise.
+    
+    Members:
+    
+      Additive : y = g(x) + n with n's exact mean and covariance (Ukf).
+    
+      Augmented : Noise inside the sigma points through each row's quantile (Huerta Table III, UkfAugmented).
+    """
+    Additive: typing.ClassVar[NoiseForm]
+    Augmented: typing.ClassVar[NoiseForm]
+    __members__: typing.ClassVar[dict[str, NoiseForm]]
+    @typing.overload
+    def __eq__(self, other: NoiseForm) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: NoiseForm) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
 class StepResult:
     """
     What one update reports.

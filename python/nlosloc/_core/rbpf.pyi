@@ -116,7 +116,7 @@ class RbpfOptions:
     def __init__(self) -> None:
         ...
     @typing.overload
-    def __init__(self, variant: RbpfVariant = RbpfVariant.Reordered, num_particles: typing.SupportsInt | typing.SupportsIndex = 16, max_offspring: typing.SupportsInt | typing.SupportsIndex = 4096, merge: bool = True, merge_threshold: typing.SupportsFloat | typing.SupportsIndex = -1.0, threads: typing.SupportsInt | typing.SupportsIndex = 1, scheme: nlosloc._core.core.SigmaScheme = ...) -> None:
+    def __init__(self, variant: RbpfVariant = RbpfVariant.Reordered, num_particles: typing.SupportsInt | typing.SupportsIndex = 16, max_offspring: typing.SupportsInt | typing.SupportsIndex = 4096, merge: bool = True, merge_threshold: typing.SupportsFloat | typing.SupportsIndex = -1.0, threads: typing.SupportsInt | typing.SupportsIndex = 1, scheme: nlosloc._core.core.SigmaScheme = ..., noise_form: nlosloc._core.filters.NoiseForm = nlosloc._core.filters.NoiseForm.Additive) -> None:
         ...
     @property
     def max_offspring(self) -> int:
@@ -133,6 +133,14 @@ class RbpfOptions:
         """
     @merge_threshold.setter
     def merge_threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def noise_form(self) -> nlosloc._core.filters.NoiseForm:
+        """
+        UKF noise: Additive moments (default, one sigma set per parent) or Augmented (Table III's noise sigma set, one sigma set per child).
+        """
+    @noise_form.setter
+    def noise_form(self, arg0: nlosloc._core.filters.NoiseForm) -> None:
         ...
     @property
     def num_particles(self) -> int:
