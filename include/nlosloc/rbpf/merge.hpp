@@ -53,6 +53,13 @@ struct MergeWorkspace {
   }
 };
 
+/// The strict order of merge and selection: heavier log weight first, ties to the lower index, so the
+/// kept set and the merge's visiting order are unique whatever order the candidates arrive in.
+struct HeavierFirst {
+  const double* logw;
+  bool operator()(int a, int b) const { return logw[a] != logw[b] ? logw[a] > logw[b] : a < b; }
+};
+
 namespace detail {
 /// ws.order = 0..n-1 grouped by key (ascending), heaviest first within a group, ties by index: the order
 /// the greedy merge visits; ws.sorted_keys[i] = keys[ws.order[i]]. Small n: one comparison sort. Large n (the
@@ -62,7 +69,7 @@ namespace detail {
 inline void merge_order(const std::uint64_t* keys, const double* logw, int n, MergeWorkspace& ws) {
   const auto N = static_cast<std::size_t>(n);
   ws.order.resize(N);
-  auto heavier = [&](int a, int b) { return logw[a] != logw[b] ? logw[a] > logw[b] : a < b; };
+  const HeavierFirst heavier{logw};
   ws.sorted_keys.resize(N);
   if (n < MergeWorkspace::kRadixMin) {
     std::iota(ws.order.begin(), ws.order.end(), 0);
@@ -153,13 +160,13 @@ class TopSelector {
   TopSelector(const double* logw, int M, std::vector<int>& out) : logw_(logw), M_(M), out_(out) {
     out_.clear();
   }
-  bool heavier(int a, int b) const { return logw_[a] != logw_[b] ? logw_[a] > logw_[b] : a < b; }
+  bool heavier(int a, int b) const { return HeavierFirst{logw_}(a, b); }
   bool full() const { return static_cast<int>(out_.size()) >= M_; }
   /// Log weight of the lightest kept entry (valid when full()).
   double threshold() const { return logw_[out_.front()]; }
   void offer(int i) {
     if (!(logw_[i] > -std::numeric_limits<double>::infinity()) || M_ <= 0) return;
-    auto cmp = [this](int a, int b) { return heavier(a, b); };
+    const HeavierFirst cmp{logw_};
     if (!full()) {
       out_.push_back(i);
       std::push_heap(out_.begin(), out_.end(), cmp);
@@ -170,9 +177,7 @@ class TopSelector {
     }
   }
   /// Sorts the kept entries by decreasing weight.
-  void finish() {
-    std::sort(out_.begin(), out_.end(), [this](int a, int b) { return heavier(a, b); });
-  }
+  void finish() { std::sort(out_.begin(), out_.end(), HeavierFirst{logw_}); }
 
  private:
   const double* logw_;

@@ -463,10 +463,7 @@ class Rbpf {
     for (int p = 0; p < count_; ++p)
       if (!near_[static_cast<std::size_t>(p)] && above(best_[static_cast<std::size_t>(p)], tau))
         w.porder.push_back(p);
-    std::sort(w.porder.begin(), w.porder.end(), [&](int a, int b) {
-      const double ba = best_[static_cast<std::size_t>(a)], bb = best_[static_cast<std::size_t>(b)];
-      return ba != bb ? ba > bb : a < b;
-    });
+    std::sort(w.porder.begin(), w.porder.end(), HeavierFirst{best_.data()});
     TopSelector top(off_logw_.data(), static_cast<int>(M), w.cand);
     for (std::size_t j = static_cast<std::size_t>(th); j < w.porder.size();
          j += static_cast<std::size_t>(T)) {
@@ -551,11 +548,7 @@ class Rbpf {
     const std::size_t keep = std::min(M, cand_.size());
     if (keep < cand_.size())
       std::nth_element(cand_.begin(), cand_.begin() + static_cast<std::ptrdiff_t>(keep - 1), cand_.end(),
-                       [&](int a, int b) {
-                         const double wa = off_logw_[static_cast<std::size_t>(a)];
-                         const double wb = off_logw_[static_cast<std::size_t>(b)];
-                         return wa != wb ? wa > wb : a < b;
-                       });
+                       HeavierFirst{off_logw_.data()});
     sel_.assign(cand_.begin(), cand_.begin() + static_cast<std::ptrdiff_t>(keep));
     // Group the survivors by parent so each parent's sigma points are computed once per thread: a
     // child's index is parent * per + rank, so index order groups them.
