@@ -23,6 +23,7 @@ template class nlosloc::rbpf::Rbpf<ConstantVelocity2>;
 template class nlosloc::rbpf::Rbpf<ConstantVelocityClock2>;
 template class nlosloc::rbpf::ParticleFilter<ConstantVelocityClock2>;
 template class nlosloc::rbpf::UkfKernel<ConstantVelocity2>;
+template class nlosloc::rbpf::UkfKernel<TwoWayClock>;
 
 namespace {
 constexpr double kNegInf = -std::numeric_limits<double>::infinity();
@@ -397,6 +398,32 @@ TEST_CASE("UKF kernel, augmented form: equals UkfAugmented's predict + update, o
     CHECK_THAT(got.log_likelihood, WithinAbs(want.log_likelihood, 1e-10));
     CHECK((x - r.mean()).cwiseAbs().maxCoeff() < 1e-10);
     CHECK((P - r.cov()).cwiseAbs().maxCoeff() < 1e-10);
+  }
+  // Two-way ranging (Grisales eqs. 17, 20): non-additive, state-dependent noise, 5 inputs per exchange.
+  const TwoWayClock motion(1e-3, 1e-11, 1e-11, 0.1);
+  MatX anchors(2, 2);
+  anchors << 100, 0, 0, 100;
+  MeasurementStack tw(TwoWayClock::layout(), anchors, 2);
+  for (int b = 0; b < 2; ++b) tw.add_twr(b, b, 5e-6, 1e-6, 0.2e-9, {std::nullopt, nn::Normal(8.5e-9, 2e-9)});
+  Gaussian<6> g;
+  g.mean << 1 - 1e-5, 500e-9, 3, -2, 0.1, 0;
+  g.cov = Vec<6>(1e-12, 1e-14, 0.01, 0.01, 1, 1).asDiagonal();
+  VecX y(4);
+  tw.predict(g.mean, motion.dt(), y);
+  y += Vec<4>(2e-9, 3e-9, -1e-9, 4e-9);
+  UkfKernel<TwoWayClock> kt(tw, SigmaScheme::scaled(1.0, 2.0, 0.0), NoiseForm::kAugmented);
+  for (int c = 0; c < 4; ++c) {
+    const VecXi s = sv(c);
+    UkfAugmented<TwoWayClock> r(motion, tw, g, SigmaScheme::scaled(1.0, 2.0, 0.0));
+    const StepResult want = r.step(y, s);
+    REQUIRE(kt.prepare(motion, tw, g.mean, g.cov, motion.dt()) == CholeskyStatus::kOk);
+    Vec<6> x;
+    Mat<6, 6> P;
+    StepResult got;
+    REQUIRE(kt.finish(s, y, x, P, got));
+    CHECK_THAT(got.log_likelihood, WithinRel(want.log_likelihood, 1e-9));
+    CHECK(((x - r.mean()).array().abs() <= 1e-9 * (1.0 + r.mean().array().abs())).all());
+    CHECK(((P - r.cov()).array().abs() <= 1e-9 * r.cov().cwiseAbs().maxCoeff()).all());
   }
   RbpfOptions bad;
   bad.noise_form = static_cast<NoiseForm>(7);
