@@ -24,6 +24,12 @@
 /// adaptive approach in [19]" without the estimator's form (forgetting factor, whether the innovation used
 /// is the raw or the bias-corrected one, the positivity safeguard), so it cannot be reproduced from the
 /// paper; R(k) here is the range-noise model of RangeNoise evaluated at the predicted position.
+/// Measured (out-of-tree experiment, K1, 100 runs, seed 1, 67% error in m for 1 / 2 / 3 NLOS nodes; fixed
+/// R: 81.4 / 53.4 / 56.4) with the textbook diagonal Sage-Husa form r_i <- (1 - d_k) r_i + d_k (e_i^2 -
+/// (F P F^T)_ii), d_k = (1 - b) / (1 - b^(k+1)), b = 0.98, floor 1 m^2: raw innovation 21.4 / 499 / 567 (R
+/// absorbs the biases, so the test (32) stops firing when most rows are NLOS); bias-corrected innovation
+/// 224 / 186 / 194 with 95% errors in the kilometres; raw innovation with the model R kept in the test
+/// 166 / 89.6 / 106. No variant helps every case, so the fixed R stays.
 #include <cmath>
 #include <limits>
 #include <memory>
