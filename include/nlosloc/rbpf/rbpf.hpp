@@ -713,6 +713,10 @@ class Rbpf {
       int last = -1;
       CholeskyStatus pst = CholeskyStatus::kOk;
       StepResult res;
+      // The thread's outcome stays in locals and is stored once: the threads' slots of thread_status_ /
+      // thread_fail_ share a cache line, and a store per update would bounce it between the cores.
+      CholeskyStatus ts = CholeskyStatus::kOk;
+      int fails = 0;
       for (int i = b; i < e; ++i) {
         const auto c = static_cast<std::size_t>(child(i));
         const int p = off_parent_[c];
@@ -726,22 +730,23 @@ class Rbpf {
           logw[i] = -std::numeric_limits<double>::infinity();
           mean_out(i) = ker.predicted_mean();
           cov_out(i) = cov_[static_cast<std::size_t>(p)];
-          ++thread_fail_[static_cast<std::size_t>(th)];
-          thread_status_[static_cast<std::size_t>(th)] = CholeskyStatus::kFailed;
+          ++fails;
+          ts = CholeskyStatus::kFailed;
           continue;
         }
         decode_situation(off_key_[c], nz_, s);
         const bool ok = ker.finish(s, y_, mean_out(i), cov_out(i), res);
-        auto& ts = thread_status_[static_cast<std::size_t>(th)];
         ts = nlosloc::detail::worse(ts, res.status);
         if (!ok || !std::isfinite(res.log_likelihood)) {
           logw[i] = -std::numeric_limits<double>::infinity();
-          ++thread_fail_[static_cast<std::size_t>(th)];
+          ++fails;
           ts = CholeskyStatus::kFailed;
         } else {
           logw[i] = prior + res.log_likelihood;  // eq. (25) / (33)
         }
       }
+      thread_fail_[static_cast<std::size_t>(th)] = fails;
+      thread_status_[static_cast<std::size_t>(th)] = ts;
       after(b, e, *work_[static_cast<std::size_t>(th)]);
     });
     for (std::size_t th = 0; th < thread_fail_.size(); ++th) {
