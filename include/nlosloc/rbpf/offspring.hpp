@@ -47,6 +47,22 @@ void decode_situation(std::uint64_t key, int num_conditions, Eigen::MatrixBase<D
     key /= static_cast<std::uint64_t>(num_conditions);
   }
 }
+/// prob(b, s_b) += w for every anchor b of the situation `key` (prob is B x N_z): a particle's weight added
+/// to the per-anchor situation probabilities, without decoding into a vector.
+template <class D>
+void add_situation_weight(std::uint64_t key, double w, Eigen::MatrixBase<D>& prob) {
+  const auto nz = static_cast<std::uint64_t>(prob.cols());
+  for (Eigen::Index b = 0; b < prob.rows(); ++b) {
+    prob(b, static_cast<Eigen::Index>(key % nz)) += w;
+    key /= nz;
+  }
+}
+
+namespace detail {
+/// True when a log weight `x` computed in one summation order may reach `cut` computed in another: x is
+/// compared with a relative 1e-9 margin, so pruning by a bound never drops a child the exact order keeps.
+inline bool may_reach(double x, double cut) { return !(x + 1e-9 * (1.0 + std::abs(x)) < cut); }
+}  // namespace detail
 
 namespace detail {
 /// o[0..N_z) = anchor b's conditions by decreasing factor A(b, .), ties in condition order: a stable
@@ -189,8 +205,8 @@ struct AboveSearch {
     const double best = A(b, o[0]);
     for (int r = 0; r < nz; ++r) {
       const double a = A(b, o[r]);
-      const double ub = bound - best + a;                   // heaviest completion with this condition
-      if (ub + 1e-9 * (1.0 + std::abs(ub)) < cut()) break;  // the next conditions are lighter still
+      const double ub = bound - best + a;  // heaviest completion with this condition
+      if (!may_reach(ub, cut())) break;    // the next conditions are lighter still
       run(b + 1, sum + a, ub, key + static_cast<std::uint64_t>(o[r]) * pow[b]);
     }
   }

@@ -106,7 +106,7 @@ class Rbpf {
                    "quality: expected " + std::to_string(meas.num_conditions()) + " conditions");
     NLOSLOC_ENSURE(!sight_.speed_dependent() || meas.layout().velocity >= 0,
                    "sight: a speed-dependent chain needs a velocity in the state layout");
-    options.scheme.validate(options.noise_form == NoiseForm::kAugmented ? N + meas.noise_dim() : N);
+    options.scheme.validate(UkfKernel<Motion, Meas>::sigma_dim(meas, options.noise_form));
     B_ = meas.num_anchors();
     nz_ = meas.num_conditions();
     const std::uint64_t total = situation_count(nz_, B_);
@@ -455,20 +455,20 @@ class Rbpf {
       const double v = w.ktmp[M - 1];
       if (std::isfinite(v)) tau = v - 1e-9 * (1.0 + std::abs(v));
     }
-    // The margin covers the different summation order of the children's weights.
-    auto above = [&](double bp, double cut) { return !(bp + 1e-9 * (1.0 + std::abs(bp)) < cut); };
+    // detail::may_reach: the margin covers the different summation order of the children's weights.
+    using nlosloc::rbpf::detail::may_reach;
     // The other parents that pass the cut, by decreasing best child, dealt round-robin to the threads so
     // each gets an even share of the parents that survive the per-thread cut below.
     w.porder.clear();
     for (int p = 0; p < count_; ++p)
-      if (!near_[static_cast<std::size_t>(p)] && above(best_[static_cast<std::size_t>(p)], tau))
+      if (!near_[static_cast<std::size_t>(p)] && may_reach(best_[static_cast<std::size_t>(p)], tau))
         w.porder.push_back(p);
     std::sort(w.porder.begin(), w.porder.end(), HeavierFirst{best_.data()});
     TopSelector top(off_logw_.data(), static_cast<int>(M), w.cand);
     for (std::size_t j = static_cast<std::size_t>(th); j < w.porder.size();
          j += static_cast<std::size_t>(T)) {
       const int p = w.porder[j];
-      if (top.full() && !above(best_[static_cast<std::size_t>(p)], top.threshold())) break;
+      if (top.full() && !may_reach(best_[static_cast<std::size_t>(p)], top.threshold())) break;
       if (full_enum_)
         offer_pruned(p, w, top, tau);
       else
@@ -619,11 +619,7 @@ class Rbpf {
       w.m0 += wi;
       w.m1 += wi * dx;
       w.m2 += wi * (ncov_[u] + dx * dx.transpose());
-      std::uint64_t key = nkey_[u];
-      for (int a = 0; a < B_; ++a) {
-        w.mprob(a, static_cast<Eigen::Index>(key % static_cast<std::uint64_t>(nz_))) += wi;
-        key /= static_cast<std::uint64_t>(nz_);
-      }
+      add_situation_weight(nkey_[u], wi, w.mprob);
     }
   }
 
@@ -767,11 +763,7 @@ class Rbpf {
       const double w = std::exp(logw_at(i) - z);
       if (w == 0.0) continue;
       est_ += w * mean_at(i);  // eq. (28)
-      std::uint64_t key = key_at(i);
-      for (int b = 0; b < B_; ++b) {
-        prob_(b, static_cast<Eigen::Index>(key % static_cast<std::uint64_t>(nz_))) += w;
-        key /= static_cast<std::uint64_t>(nz_);
-      }
+      add_situation_weight(key_at(i), w, prob_);
     }
     est_cov_.setZero();
     for (int i = 0; i < n; ++i) {
