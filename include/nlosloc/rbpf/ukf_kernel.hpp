@@ -26,18 +26,25 @@ class UkfKernel {
   /// Buffers sized for `meas`; later calls must pass a stack with the same rows (it may be another copy:
   /// the kernel keeps no reference between prepare() calls, so the owning filter stays movable).
   UkfKernel(const Meas& meas, const SigmaScheme& scheme, NoiseForm form = NoiseForm::kAdditive)
-      : meas_(&meas), form_(form) {
+      : meas_(&meas), form_(form), w_(scheme.weights(sigma_dim(meas, form))) {
     const int m = meas.rows();
-    // Augmented: L_a = n + q (Huerta eq. 49), so the state points spread wider than in the additive form.
-    w_ = scheme.weights(form == NoiseForm::kAugmented ? N + meas.noise_dim() : N);
     tail_.resize(m);
+    if (form == NoiseForm::kAugmented) {
+      aug_.resize(m, meas.noise_dim());
+      return;
+    }
     mom_.resize(m);
-    if (form == NoiseForm::kAugmented) aug_.resize(m, meas.noise_dim());
     S0_.setZero(m, m);
     Pxz0_.setZero(N, m);
     zhat0_.setZero(m);
     nmean_.setZero(m);
     R_.setZero(m, m);
+  }
+
+  /// Dimension of the unscented transform: n, or n + q with the noise inputs (Huerta eq. 49, L_a = n + q;
+  /// the state points then spread wider than in the additive form).
+  static int sigma_dim(const Meas& meas, NoiseForm form) {
+    return form == NoiseForm::kAugmented ? N + meas.noise_dim() : N;
   }
 
   /// Stage 1 (Table III, first three items): x_p = F x, P_p = F P F^T + Q (exact, linear motion) and the
@@ -66,19 +73,18 @@ class UkfKernel {
     res.status = status_;
     res.jitter = jitter_;
     auto& t = tail_;
-    x_out = xp_;
-    P_out = Pp_;
     if (form_ == NoiseForm::kAugmented) {
       aug_.compute(*meas_, xp_, L_, w_, t_, s, t.zhat, t.S, t.Pxz);  // Table III.1, eqs. (49)-(51)
-      return t.apply(
-          y, [this](VecX& r) { meas_->wrap_residual(r); }, x_out, P_out, res);
+    } else {
+      meas_->noise_moments(xp_, s, nmean_, R_);
+      t.S = S0_;
+      t.S += R_;
+      t.Pxz = Pxz0_;
+      t.zhat = zhat0_;
+      t.zhat += nmean_;
     }
-    meas_->noise_moments(xp_, s, nmean_, R_);
-    t.S = S0_;
-    t.S += R_;
-    t.Pxz = Pxz0_;
-    t.zhat = zhat0_;
-    t.zhat += nmean_;
+    x_out = xp_;
+    P_out = Pp_;
     return t.apply(
         y, [this](VecX& r) { meas_->wrap_residual(r); }, x_out, P_out, res);
   }
