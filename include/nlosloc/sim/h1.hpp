@@ -338,18 +338,25 @@ inline std::unique_ptr<Estimator> make_h1_iukf(const H1& s, int /*case_index*/) 
                      situation::ForwardFilter(s.sight_process(), situation::QualityModel(s.quality()))));
 }
 
-/// H1 "rRBPF-8": reordered RBPF (Huerta Table V) with M = 8, sight chain eq. (17), quality likelihoods.
-inline std::unique_ptr<Estimator> make_h1_rbpf(const H1& s, int /*case_index*/,
-                                               NoiseForm form = NoiseForm::kAdditive) {
+/// H1 reordered RBPF (Huerta Table V) with M = 8, sight chain eq. (17), quality likelihoods, and the UKF
+/// noise form `form`.
+inline std::unique_ptr<Estimator> make_h1_rbpf_form(const H1& s, const char* name, NoiseForm form) {
   rbpf::RbpfOptions o;
   o.variant = rbpf::RbpfVariant::kReordered;
   o.num_particles = s.params().rbpf_particles;
   o.noise_form = form;
   return std::make_unique<RbpfEstimator<ConstantVelocity2>>(
-      form == NoiseForm::kAugmented ? H1::kRbpfAug : H1::kRbpf,
-      std::make_unique<rbpf::Rbpf<ConstantVelocity2>>(s.motion(), s.measurements(), s.sight_process(),
-                                                      situation::QualityModel(s.quality()), Gaussian<4>(),
-                                                      o));
+      name, std::make_unique<rbpf::Rbpf<ConstantVelocity2>>(s.motion(), s.measurements(), s.sight_process(),
+                                                            situation::QualityModel(s.quality()),
+                                                            Gaussian<4>(), o));
+}
+/// H1 "rRBPF-8": the additive-noise UKF (the library's default).
+inline std::unique_ptr<Estimator> make_h1_rbpf(const H1& s, int /*case_index*/) {
+  return make_h1_rbpf_form(s, H1::kRbpf, NoiseForm::kAdditive);
+}
+/// H1 "rRBPF-8-aug": the UKF of Table III as written (noise sigma set, UkfAugmented).
+inline std::unique_ptr<Estimator> make_h1_rbpf_aug(const H1& s, int /*case_index*/) {
+  return make_h1_rbpf_form(s, H1::kRbpfAug, NoiseForm::kAugmented);
 }
 
 /// Registers H1 and its estimators (one line each).
@@ -358,9 +365,8 @@ inline void register_h1(Registry& r) {
   r.add_estimator<H1>("H1", H1::kMle, make_h1_mle);
   r.add_estimator<H1>("H1", H1::kEkf, make_h1_ekf);
   r.add_estimator<H1>("H1", H1::kIukf, make_h1_iukf);
-  r.add_estimator<H1>("H1", H1::kRbpf, [](const H1& s, int c) { return make_h1_rbpf(s, c); });
-  r.add_estimator<H1>("H1", H1::kRbpfAug,
-                      [](const H1& s, int c) { return make_h1_rbpf(s, c, NoiseForm::kAugmented); });
+  r.add_estimator<H1>("H1", H1::kRbpf, make_h1_rbpf);
+  r.add_estimator<H1>("H1", H1::kRbpfAug, make_h1_rbpf_aug);
 }
 
 }  // namespace nlosloc::sim
