@@ -27,7 +27,14 @@ template class nlosloc::rbpf::UkfKernel<TwoWayClock>;
 
 namespace {
 constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+/// B x N_z log factors A(b, z) = log U(0, 1), drawn row by row.
+MatX random_factors(int B, int nz, Rng& rng) {
+  MatX A(B, nz);
+  for (int b = 0; b < B; ++b)
+    for (int z = 0; z < nz; ++z) A(b, z) = std::log(rng.uniform());
+  return A;
 }
+}  // namespace
 
 TEST_CASE("merge rule on hand-built particle sets (eqs. 29-30)", "[rbpf][merge]") {
   // particles: key, 1-D mean, weight
@@ -109,9 +116,7 @@ TEST_CASE("offspring counts and the bounded enumeration", "[rbpf][offspring]") {
   Rng rng(2);
   for (int nz : {2, 3}) {
     const int B = nz == 2 ? 6 : 4;
-    MatX A(B, nz);
-    for (int b = 0; b < B; ++b)
-      for (int z = 0; z < nz; ++z) A(b, z) = std::log(rng.uniform());
+    const MatX A = random_factors(B, nz, rng);
     std::vector<std::pair<double, std::uint64_t>> all;
     enumerate_all(A, [&](std::uint64_t k, double s) { all.emplace_back(s, k); });
     const auto total = situation_count(nz, B);
@@ -170,9 +175,7 @@ TEST_CASE("children above a cut: the pruned search equals the filtered full enum
   Rng rng(4);
   for (int nz : {2, 3}) {
     const int B = nz == 2 ? 6 : 4;
-    MatX A(B, nz);
-    for (int b = 0; b < B; ++b)
-      for (int z = 0; z < nz; ++z) A(b, z) = std::log(rng.uniform());
+    const MatX A = random_factors(B, nz, rng);
     std::vector<std::uint64_t> pow(static_cast<std::size_t>(B), 1);
     for (int b = 1; b < B; ++b) pow[static_cast<std::size_t>(b)] = pow[static_cast<std::size_t>(b) - 1] * nz;
     std::vector<int> opt(static_cast<std::size_t>(B * nz));
