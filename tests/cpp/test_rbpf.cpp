@@ -535,11 +535,19 @@ TEST_CASE("RBPF on an H2-like track: 1 and 2 threads agree, estimate tracks", "[
     Rbpf<ConstantVelocityClock2> f1(h.motion, h.st, h.proc, h.q, h.g, opt);
     opt.threads = 2;
     Rbpf<ConstantVelocityClock2> f2(h.motion, h.st, h.proc, h.q, h.g, opt);
+    long merged1 = 0, merged2 = 0, same_steps = 0;
     for (std::size_t k = 0; k < y.size(); ++k) {
       const auto i1 = f1.step(y[k], o[k]);
-      f2.step(y[k], o[k]);
+      const auto i2 = f2.step(y[k], o[k]);
       CHECK(i1.failures == 0);
+      merged1 += i1.merged;
+      merged2 += i2.merged;
+      same_steps += i1.merged == i2.merged && f1.num_particles() == f2.num_particles() ? 1 : 0;
     }
+    // The 2-thread merge (split by key over the threads) absorbs the same children as the serial one.
+    CHECK(merged1 > 0);
+    CHECK(merged1 == merged2);
+    CHECK(same_steps == static_cast<long>(y.size()));
     CHECK((f1.estimate() - f2.estimate()).cwiseAbs().maxCoeff() < 1e-9);
     CHECK((f1.estimate().head<2>() - truth.back().head<2>()).norm() < 15.0);
     CHECK(is_spd(f1.covariance()));

@@ -25,6 +25,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <string>
 #include <utility>
 #include <vector>
@@ -137,16 +138,15 @@ class Rbpf {
     nkey_ = key_;
     nlogw_ = logw_;
     xpred_.resize(static_cast<std::size_t>(M));
-    adj_.resize(static_cast<std::size_t>(M) * static_cast<std::size_t>(M));
+    adj_.assign(static_cast<std::size_t>(M) * static_cast<std::size_t>(M), 0);
+    key_count_ = total;
     sel_.reserve(cap);
-    mws_.reserve(cap);
-    sub_.reserve(cap);
-    sub_key_.reserve(cap);
-    sub_logw_.reserve(cap);
-    near_.assign(static_cast<std::size_t>(M), 0);
+    if (options.variant == RbpfVariant::kClassical) mws_.reserve(cap);
     best_.assign(static_cast<std::size_t>(M), 0.0);
     known_.assign(3 * static_cast<std::size_t>(M), 0.0);
     byx_.reserve(static_cast<std::size_t>(M));
+    cell_.reserve(static_cast<std::size_t>(M) + 1);
+    pcell_.assign(static_cast<std::size_t>(M), 0);
     apar_.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
     for (int t = 0; t < pool_->size(); ++t) {
       kernels_.emplace_back(
@@ -156,10 +156,19 @@ class Rbpf {
       w->speeds.setZero(B_);
       w->s.setZero(B_);
       w->cand.reserve(static_cast<std::size_t>(M));
+      w->crec.reserve(static_cast<std::size_t>(M));
       w->porder.reserve(static_cast<std::size_t>(M));
+      w->psorted.reserve(static_cast<std::size_t>(M));
       w->mprob.setZero(B_, nz_);
       w->opt.assign(static_cast<std::size_t>(B_) * static_cast<std::size_t>(nz_), 0);
       w->ktmp.assign(3 * static_cast<std::size_t>(M), 0.0);
+      w->near.assign(static_cast<std::size_t>(M), 0);
+      if (options.variant == RbpfVariant::kReordered) {
+        w->sub.reserve(cap);
+        w->sub_key.reserve(cap);
+        w->sub_logw.reserve(cap);
+        w->mws.reserve(cap);
+      }
       if (static_cast<std::uint64_t>(per_parent_) < total)
         w->best.reserve(B_, nz_, static_cast<std::uint64_t>(per_parent_));
       work_.push_back(std::move(w));
@@ -168,7 +177,9 @@ class Rbpf {
     split_.assign(static_cast<std::size_t>(pool_->size()) + 1, 0);
     thread_status_.assign(static_cast<std::size_t>(pool_->size()), CholeskyStatus::kOk);
     Lq_.resize(B_, nz_);
-    cand_.reserve(cap + static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
+    crec_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
+    if ((cap + 63) / 64 <= kBitmapSortPerKept * static_cast<std::size_t>(M))
+      selbits_.assign((cap + 63) / 64, 0);
     prob_.resize(B_, nz_);
     y_.resize(meas.rows());
     reset(initial, t0);
@@ -283,11 +294,20 @@ class Rbpf {
     MatX T;
     VecX speeds;
     VecXi s;
-    std::vector<int> cand;     // top-M children of this thread's share of the parents without a neighbour
-    std::vector<int> porder;   // parents that pass the cut, by decreasing best child
-    std::vector<double> ktmp;  // scratch copy of known_
-    std::vector<int> opt;      // B x N_z: each anchor's conditions by decreasing factor (offer_pruned)
-    BestFirstWorkspace best;   // bounded enumeration (reserved at construction when it is used)
+    std::vector<int> cand;  // top-M children of this thread's share of the parents without a neighbour
+    std::vector<std::pair<double, int>> crec;  // (log weight, index) of cand, written at the region's end
+    std::vector<int> porder;                   // parents that pass the cut, by decreasing best child
+    std::vector<int> psorted;                  // this thread's share of the parents, by decreasing best child
+    std::vector<double> ktmp;                  // scratch copy of known_
+    std::vector<int> opt;    // B x N_z: each anchor's conditions by decreasing factor (offer_pruned)
+    std::vector<char> near;  // near[p] = 1 when this thread's sweep found a neighbour of parent p
+    // merge_share: this thread's children of parents with a neighbour, their keys and log weights
+    std::vector<int> sub;
+    std::vector<std::uint64_t> sub_key;
+    std::vector<double> sub_logw;
+    MergeWorkspace mws;
+    int merged = 0;           // children absorbed by this thread's merge
+    BestFirstWorkspace best;  // bounded enumeration (reserved at construction when it is used)
     // reordered summary of this thread's updated particles (accumulate_moments)
     double mmax = 0.0, m0 = 0.0;
     State m1;
@@ -370,39 +390,89 @@ class Rbpf {
     return count_ * per_parent_;
   }
 
-  /// Reordered order: marks the parents with a neighbour within d_min (eq. 29 on the predicted means:
-  /// children keep their parent's kinetic belief, so two children are close exactly when they have the
-  /// same situation and their parents are close), writes every child of those (the merge needs them) and,
-  /// per thread, the M heaviest children of the other parents into w.cand. A parent whose best child
-  /// (its weight plus sum_b max_z A(b, z)) is lighter than the thread's M-th kept child cannot contribute
-  /// and is not enumerated; parents are visited by decreasing best child so this cut comes early.
-  /// One parallel region: factors of a contiguous share of the parents, a barrier, then every thread
-  /// derives the same cut tau and parent ranking from the shared arrays (redundant but cheaper than a
-  /// second hand-off) and enumerates its round-robin share of the ranking.
+  /// Reordered order, in one parallel region of three phases split by two barriers (the children of a
+  /// parent with a neighbour within d_min must all exist before the merge, and every parent's bounds
+  /// before the cut):
+  ///  A. each thread sweeps its share of the parent pairs for neighbours (eq. 29 on the predicted means:
+  ///     children keep their parent's kinetic belief, so two children are close exactly when they have the
+  ///     same situation and their parents are close), then computes the factors, best child and three known
+  ///     child weights of a contiguous share of the parents;
+  ///  B. writes every child of its parents with a neighbour, then enumerates the M heaviest children of the
+  ///     other parents into its top-M (enumerate_share);
+  ///  C. merges (eqs. 29-30) the neighbours' children whose key falls in its key range (children with
+  ///     different keys never merge) and offers the survivors to the same top-M.
+  /// The union of the threads' top-M lists then holds the global top M. Every phase runs on all threads,
+  /// so nothing but the final selection of at most T x M candidates is serial.
   int expand_reordered(long k, double d_min) {
-    std::fill(near_.begin(), near_.end(), 0);
-    if (opt_.merge) mark_near_parents(d_min);
     const int T = active_threads(count_);
     expand_threads_ = T;
+    const bool merge = opt_.merge && count_ > 1;
+    if (merge) prepare_sweep(d_min);
+    const auto M = static_cast<int>(opt_.num_particles);
     pool_->parallel_for(T, [&](int th, int, int) {
       ThreadWork& w = *work_[static_cast<std::size_t>(th)];
       std::exception_ptr err;
-      try {
-        const int pb = static_cast<int>(static_cast<long long>(count_) * th / T);
-        const int pe = static_cast<int>(static_cast<long long>(count_) * (th + 1) / T);
+      auto guarded = [&](auto&& f) {
+        if (err) return;
+        try {
+          f();
+        } catch (...) {
+          err = std::current_exception();
+        }
+      };
+      const int pb = static_cast<int>(static_cast<long long>(count_) * th / T);
+      const int pe = static_cast<int>(static_cast<long long>(count_) * (th + 1) / T);
+      w.merged = 0;
+      TopSelector top(off_logw_.data(), M, w.cand);
+      guarded([&] {
+        std::fill(w.near.begin(), w.near.begin() + count_, 0);
+        if (merge) sweep_near(th, T, d_min, w);
         for (int p = pb; p < pe; ++p) parent_bounds(p, k, w);
-      } catch (...) {
-        err = std::current_exception();
+        w.psorted.resize(static_cast<std::size_t>(pe - pb));
+        std::iota(w.psorted.begin(), w.psorted.end(), pb);
+        std::sort(w.psorted.begin(), w.psorted.end(), HeavierFirst{best_.data()});
+      });
+      // Every thread arrives at both barriers, even after an exception (no deadlock); the second is
+      // skipped by all threads alike when no parent has a neighbour (they all see the same flags).
+      barrier_->arrive_and_wait(T);
+      bool any_near = false;
+      guarded([&] {
+        for (int p = pb; p < pe; ++p)
+          if (is_near(p)) emit_children(p, w, nullptr);
+        any_near = enumerate_share(th, T, w, top);
+      });
+      if (!merge) any_near = false;
+      if (merge) {
+        // any_near must agree across threads: recomputed from the shared flags when this thread failed
+        if (err) any_near = count_near() > 0;
+        if (any_near) {
+          barrier_->arrive_and_wait(T);
+          guarded([&] { merge_share(th, T, w, top); });
+        }
       }
-      barrier_->arrive_and_wait(T);  // every thread arrives, even after an exception (no deadlock)
+      // The kept children with their weights, in this thread's cache: the serial selection then reads
+      // one contiguous array per thread instead of scattered entries of off_logw_ written by other cores.
+      w.crec.clear();
+      for (const int i : w.cand) w.crec.push_back({off_logw_[static_cast<std::size_t>(i)], i});
       if (err) std::rethrow_exception(err);
-      enumerate_share(th, T, w);
     });
     return count_ * per_parent_;
   }
 
-  /// Factors A of parent p, its best child's weight best_[p], three known child weights known_[3p..] and,
-  /// when p has a neighbour, all its children (eq. 23).
+  /// True when parent p has a neighbour within d_min (set by any thread's sweep this step).
+  bool is_near(int p) const {
+    for (int th = 0; th < expand_threads_; ++th)
+      if (work_[static_cast<std::size_t>(th)]->near[static_cast<std::size_t>(p)]) return true;
+    return false;
+  }
+  int count_near() const {
+    int n = 0;
+    for (int p = 0; p < count_; ++p) n += is_near(p) ? 1 : 0;
+    return n;
+  }
+
+  /// Factors A of parent p, its best child's weight best_[p] and three known child weights known_[3p..]
+  /// (used for the cut only when p has no neighbour).
   void parent_bounds(int p, long k, ThreadWork& w) {
     MatX& A = apar_[static_cast<std::size_t>(p)];
     parent_factors(p, k, w, A);
@@ -433,23 +503,31 @@ class Rbpf {
       }
     const auto u = 3 * static_cast<std::size_t>(p);
     // The i-th heaviest emitted child weighs at least the i-th known one (i <= children emitted).
-    const bool skip = near_[static_cast<std::size_t>(p)] != 0;
-    known_[u] = skip ? -kInf : bp;
-    known_[u + 1] = skip || per_parent_ < 2 ? -kInf : bp - g1;
-    known_[u + 2] = skip || per_parent_ < 3 ? -kInf : bp - g2;
-    if (skip) emit_children(p, w, nullptr);
+    known_[u] = bp;
+    known_[u + 1] = per_parent_ < 2 ? -kInf : bp - g1;
+    known_[u + 2] = per_parent_ < 3 ? -kInf : bp - g2;
   }
 
-  /// Thread th's part of the reordered expansion, after every parent's bounds are known.
-  void enumerate_share(int th, int T, ThreadWork& w) {
+  /// Thread th's part of the reordered enumeration, after every parent's bounds are known: offers to
+  /// `top` the children of its share of the parents without a neighbour that can reach the cut. Returns
+  /// whether any parent has a neighbour.
+  bool enumerate_share(int th, int T, ThreadWork& w, TopSelector& top) {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
     // tau: the M-th largest of the known weights (of distinct children of parents without a neighbour)
     // is a lower bound of the M-th heaviest child among those parents; lighter children and parents
     // whose best child is lighter are skipped. Slightly lowered for the summation order.
     double tau = -kInf;
-    const auto nk = 3 * static_cast<std::size_t>(count_);
+    std::size_t nk = 0;
+    bool any_near = false;
+    for (int p = 0; p < count_; ++p) {
+      if (is_near(p)) {
+        any_near = true;
+        continue;
+      }
+      const auto u = 3 * static_cast<std::size_t>(p);
+      for (std::size_t i = 0; i < 3; ++i) w.ktmp[nk++] = known_[u + i];
+    }
     if (nk >= M) {
-      std::copy(known_.begin(), known_.begin() + static_cast<std::ptrdiff_t>(nk), w.ktmp.begin());
       std::nth_element(w.ktmp.begin(), w.ktmp.begin() + static_cast<std::ptrdiff_t>(M - 1),
                        w.ktmp.begin() + static_cast<std::ptrdiff_t>(nk), std::greater<double>());
       const double v = w.ktmp[M - 1];
@@ -459,12 +537,29 @@ class Rbpf {
     using nlosloc::rbpf::detail::may_reach;
     // The other parents that pass the cut, by decreasing best child, dealt round-robin to the threads so
     // each gets an even share of the parents that survive the per-thread cut below.
+    // The ranking merges the threads' sorted shares (phase A) instead of sorting all parents again on
+    // every thread; std::merge keeps HeavierFirst's strict order, so it is the full sort's.
+    const HeavierFirst by_best{best_.data()};
     w.porder.clear();
-    for (int p = 0; p < count_; ++p)
-      if (!near_[static_cast<std::size_t>(p)] && may_reach(best_[static_cast<std::size_t>(p)], tau))
-        w.porder.push_back(p);
-    std::sort(w.porder.begin(), w.porder.end(), HeavierFirst{best_.data()});
-    TopSelector top(off_logw_.data(), static_cast<int>(M), w.cand);
+    if (T == 2) {
+      const auto& a = work_[0]->psorted;
+      const auto& b = work_[1]->psorted;
+      w.porder.resize(a.size() + b.size());
+      std::merge(a.begin(), a.end(), b.begin(), b.end(), w.porder.begin(), by_best);
+    } else {
+      for (int t = 0; t < T; ++t) {
+        const auto& a = work_[static_cast<std::size_t>(t)]->psorted;
+        w.porder.insert(w.porder.end(), a.begin(), a.end());
+      }
+      if (T > 2) std::sort(w.porder.begin(), w.porder.end(), by_best);
+    }
+    // Parents with a neighbour are out; the rest is cut at tau (best_ decreases along the ranking).
+    std::size_t kept = 0;
+    for (const int p : w.porder) {
+      if (!may_reach(best_[static_cast<std::size_t>(p)], tau)) break;
+      if (!is_near(p)) w.porder[kept++] = p;
+    }
+    w.porder.resize(kept);
     for (std::size_t j = static_cast<std::size_t>(th); j < w.porder.size();
          j += static_cast<std::size_t>(T)) {
       const int p = w.porder[j];
@@ -474,85 +569,166 @@ class Rbpf {
       else
         emit_children(p, w, &top, tau);
     }
+    return any_near;
   }
 
-  /// near_[p] = 1 when parent p's predicted mean F x_p is within d_min of another's (eq. 29), with the
-  /// pairs in adj_. Sorted sweep on the first state component (|dx_0| <= ||dx||), so only candidate pairs
-  /// are measured.
-  void mark_near_parents(double d_min) {
-    const auto M = static_cast<std::size_t>(opt_.num_particles);
-    const double d2 = d_min * d_min;
-    if (!xpred_ready_)  // else the last UKF bank computed them
+  /// Serial set-up of the neighbour sweep: the predicted means F x_p (unless the last UKF bank left them),
+  /// the parents bucketed by their first state component into cells of width w >= d_min (a counting sort,
+  /// linear: a comparison sort of the parents cost more than the whole sweep), and a fresh stamp for adj_
+  /// (no clearing per step). Two parents within d_min lie in the same or adjacent cells, since
+  /// |dx_0| <= ||dx|| < d_min <= w.
+  void prepare_sweep(double d_min) {
+    if (!xpred_ready_)
       for (int p = 0; p < count_; ++p)
         xpred_[static_cast<std::size_t>(p)].noalias() = motion_.F() * mean_[static_cast<std::size_t>(p)];
-    std::fill(adj_.begin(), adj_.end(), 0);
+    double lo = kInf, hi = -kInf;
+    for (int p = 0; p < count_; ++p) {
+      const double x = xpred_[static_cast<std::size_t>(p)][0];
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+    // At most count_ cells: wider cells when the parents spread over more than count_ x d_min.
+    const double width = std::max(d_min, (hi - lo) / count_);
+    const int ncell =
+        width > 0.0 ? static_cast<int>(std::min<double>(count_, std::floor((hi - lo) / width) + 1.0)) : 1;
+    cell_.assign(static_cast<std::size_t>(ncell) + 1, 0);
+    for (int p = 0; p < count_; ++p) {
+      const double x = xpred_[static_cast<std::size_t>(p)][0];
+      const double r = width > 0.0 ? (x - lo) / width : 0.0;
+      const int c = r > 0.0 ? static_cast<int>(std::min<double>(r, ncell - 1)) : 0;  // NaN: cell 0
+      pcell_[static_cast<std::size_t>(p)] = c;
+      ++cell_[static_cast<std::size_t>(c) + 1];
+    }
+    for (int c = 0; c < ncell; ++c)
+      cell_[static_cast<std::size_t>(c) + 1] += cell_[static_cast<std::size_t>(c)];
     byx_.resize(static_cast<std::size_t>(count_));
-    for (int p = 0; p < count_; ++p) byx_[static_cast<std::size_t>(p)] = p;
-    std::sort(byx_.begin(), byx_.end(), [&](int a, int b) {
-      return xpred_[static_cast<std::size_t>(a)][0] < xpred_[static_cast<std::size_t>(b)][0];
-    });
-    for (std::size_t i = 0; i < byx_.size(); ++i) {
-      const auto a = static_cast<std::size_t>(byx_[i]);
-      for (std::size_t j = i + 1; j < byx_.size(); ++j) {
-        const auto b = static_cast<std::size_t>(byx_[j]);
-        if (xpred_[b][0] - xpred_[a][0] >= d_min) break;
+    for (int p = 0; p < count_; ++p) {
+      const int c = pcell_[static_cast<std::size_t>(p)];
+      byx_[static_cast<std::size_t>(cell_[static_cast<std::size_t>(c)]++)] = {c, p};
+    }
+    if (++stamp_ == 0) {  // wrapped: entries of 65536 steps ago would read as this step's
+      std::fill(adj_.begin(), adj_.end(), std::uint16_t{0});
+      stamp_ = 1;
+    }
+  }
+
+  /// Ascending sort of distinct child indices: through a bitmap over [0, M x per) when that is at most
+  /// kBitmapSortPerKept words per kept child (linear, no mispredicted comparisons), else std::sort.
+  static constexpr std::size_t kBitmapSortPerKept = 64;
+  static int lowest_bit(std::uint64_t x) {  // x != 0
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctzll(x);
+#else
+    int n = 0;
+    for (; (x & 1) == 0; x >>= 1) ++n;
+    return n;
+#endif
+  }
+  void sort_indices(std::vector<int>& v) {
+    if (selbits_.empty() || selbits_.size() > kBitmapSortPerKept * std::max<std::size_t>(v.size(), 1)) {
+      std::sort(v.begin(), v.end());
+      return;
+    }
+    for (const int i : v) selbits_[static_cast<std::size_t>(i) >> 6] |= std::uint64_t{1} << (i & 63);
+    v.clear();
+    for (std::size_t wd = 0; wd < selbits_.size(); ++wd) {
+      for (std::uint64_t bits = selbits_[wd]; bits != 0; bits &= bits - 1)
+        v.push_back(static_cast<int>(wd * 64 + static_cast<std::size_t>(lowest_bit(bits))));
+      selbits_[wd] = 0;
+    }
+  }
+
+  /// Thread th's share of the sweep over byx_ (pairs in the same or adjacent cells only): positions
+  /// [i0, i1), chosen so every share holds about the same number of pairs when all share one cell. Marks
+  /// w.near of both parents and adj_ = stamp_ for each pair within d_min (eq. 29).
+  void sweep_near(int th, int T, double d_min, ThreadWork& w) {
+    const auto M = static_cast<std::size_t>(opt_.num_particles);
+    const double d2 = d_min * d_min;
+    const double n = static_cast<double>(count_);
+    // rows i >= x n hold (1 - x)^2 of the pairs: the share boundaries are x_t = 1 - sqrt(1 - t / T)
+    auto bound = [&](int t) {
+      return t >= T ? count_ : static_cast<int>(n * (1.0 - std::sqrt(1.0 - static_cast<double>(t) / T)));
+    };
+    const auto i0 = static_cast<std::size_t>(bound(th)), i1 = static_cast<std::size_t>(bound(th + 1));
+    const std::size_t np = byx_.size();
+    for (std::size_t i = i0; i < i1; ++i) {
+      const auto a = static_cast<std::size_t>(byx_[i].second);
+      const int ca = byx_[i].first;
+      for (std::size_t j = i + 1; j < np; ++j) {
+        if (byx_[j].first > ca + 1) break;
+        const auto b = static_cast<std::size_t>(byx_[j].second);
         if ((xpred_[a] - xpred_[b]).squaredNorm() < d2) {  // eq. (29)
-          adj_[a * M + b] = adj_[b * M + a] = 1;
-          near_[a] = near_[b] = 1;
+          adj_[a * M + b] = adj_[b * M + a] = stamp_;
+          w.near[a] = w.near[b] = 1;
         }
       }
+    }
+  }
+
+  /// Thread th's part of the merge: the children of parents with a neighbour whose key lies in the
+  /// thread's key range, merged greedily (eqs. 29-30; merge_greedy's order, so the result is the serial
+  /// merge's), then the survivors offered to `top`. Only changed weights are written back.
+  void merge_share(int th, int T, ThreadWork& w, TopSelector& top) {
+    const auto M = static_cast<std::size_t>(opt_.num_particles);
+    const auto per = static_cast<std::size_t>(per_parent_);
+    const std::uint64_t chunk =
+        (key_count_ + static_cast<std::uint64_t>(T) - 1) / static_cast<std::uint64_t>(T);
+    w.sub.clear();
+    w.sub_key.clear();
+    w.sub_logw.clear();
+    for (int p = 0; p < count_; ++p) {
+      if (!is_near(p)) continue;
+      for (std::size_t i = static_cast<std::size_t>(p) * per; i < (static_cast<std::size_t>(p) + 1) * per;
+           ++i) {
+        if (!(off_logw_[i] > -kInf) || static_cast<int>(off_key_[i] / chunk) != th) continue;
+        w.sub.push_back(static_cast<int>(i));
+        w.sub_key.push_back(off_key_[i]);
+        w.sub_logw.push_back(off_logw_[i]);
+      }
+    }
+    if (w.sub.empty()) return;
+    w.merged = merge_greedy(
+        w.sub_key.data(), w.sub_logw.data(), static_cast<int>(w.sub.size()),
+        [&](int a, int b) {
+          const auto pa = static_cast<std::size_t>(
+              off_parent_[static_cast<std::size_t>(w.sub[static_cast<std::size_t>(a)])]);
+          const auto pb = static_cast<std::size_t>(
+              off_parent_[static_cast<std::size_t>(w.sub[static_cast<std::size_t>(b)])]);
+          return adj_[pa * M + pb] == stamp_;
+        },
+        w.mws);
+    for (std::size_t j = 0; j < w.sub.size(); ++j) {
+      const auto u = static_cast<std::size_t>(w.sub[j]);
+      if (w.sub_logw[j] != off_logw_[u]) off_logw_[u] = w.sub_logw[j];
+      top.offer(w.sub[j]);  // absorbed children (-inf) are refused
     }
   }
 
   void step_reordered(long k, double t, RbpfStepInfo& info) {
     const int n = expand_reordered(k, info.merge_threshold);
     info.offspring = n;
-    // Children of parents with a neighbour: merged (eqs. 29-30), then all candidates for the selection.
+    // The global top M lies in the union of the threads' top-M lists (merged children included); selected
+    // in linear time, ties by index (a strict order, so the set is unique). Zero-weight children (absorbed,
+    // or impossible) are never offered.
     const auto M = static_cast<std::size_t>(opt_.num_particles);
-    const auto per = static_cast<std::size_t>(per_parent_);
-    sub_.clear();
-    sub_key_.clear();
-    sub_logw_.clear();
-    for (int p = 0; p < count_; ++p)
-      if (near_[static_cast<std::size_t>(p)])
-        for (std::size_t i = static_cast<std::size_t>(p) * per; i < (static_cast<std::size_t>(p) + 1) * per;
-             ++i) {
-          sub_.push_back(static_cast<int>(i));
-          sub_key_.push_back(off_key_[i]);
-          sub_logw_.push_back(off_logw_[i]);
-        }
-    if (!sub_.empty()) {
-      info.merged = merge_greedy(
-          sub_key_.data(), sub_logw_.data(), static_cast<int>(sub_.size()),
-          [&](int a, int b) {
-            const auto pa = static_cast<std::size_t>(
-                off_parent_[static_cast<std::size_t>(sub_[static_cast<std::size_t>(a)])]);
-            const auto pb = static_cast<std::size_t>(
-                off_parent_[static_cast<std::size_t>(sub_[static_cast<std::size_t>(b)])]);
-            return adj_[pa * M + pb] != 0;
-          },
-          mws_);
-      for (std::size_t j = 0; j < sub_.size(); ++j)
-        off_logw_[static_cast<std::size_t>(sub_[j])] = sub_logw_[j];
-    }
-    // The global top M lies in the merged children and the threads' top-M lists of the others (whose
-    // weights the merge did not touch); selected in linear time, ties by index (a strict order, so the
-    // set is unique). Zero-weight children (absorbed, or impossible) are never selected.
-    cand_.clear();
-    for (const int j : sub_)
-      if (off_logw_[static_cast<std::size_t>(j)] > -kInf) cand_.push_back(j);
+    info.merged = 0;
+    crec_.clear();
     for (int th = 0; th < expand_threads_; ++th) {
-      const auto& c = work_[static_cast<std::size_t>(th)]->cand;
-      cand_.insert(cand_.end(), c.begin(), c.end());
+      const ThreadWork& w = *work_[static_cast<std::size_t>(th)];
+      info.merged += w.merged;
+      crec_.insert(crec_.end(), w.crec.begin(), w.crec.end());
     }
-    const std::size_t keep = std::min(M, cand_.size());
-    if (keep < cand_.size())
-      std::nth_element(cand_.begin(), cand_.begin() + static_cast<std::ptrdiff_t>(keep - 1), cand_.end(),
-                       HeavierFirst{off_logw_.data()});
-    sel_.assign(cand_.begin(), cand_.begin() + static_cast<std::ptrdiff_t>(keep));
+    const std::size_t keep = std::min(M, crec_.size());
+    if (keep < crec_.size())  // HeavierFirst on (log weight, index) records
+      std::nth_element(crec_.begin(), crec_.begin() + static_cast<std::ptrdiff_t>(keep - 1), crec_.end(),
+                       [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
+                         return a.first != b.first ? a.first > b.first : a.second < b.second;
+                       });
     // Group the survivors by parent so each parent's sigma points are computed once per thread: a
     // child's index is parent * per + rank, so index order groups them.
-    std::sort(sel_.begin(), sel_.end());
+    sel_.clear();
+    for (std::size_t i = 0; i < keep; ++i) sel_.push_back(crec_[i].second);
+    sort_indices(sel_);
     const int ns = static_cast<int>(sel_.size());
     info.ukf_runs = ns;
     // The bank also accumulates, per thread, the moments of eq. (27)-(28) around c = F x_hat_{t-1}
@@ -798,15 +974,20 @@ class Rbpf {
   std::vector<State> off_mean_;
   std::vector<Cov> off_cov_;
   // merge / select workspace
-  std::vector<char> adj_, near_;
-  std::vector<int> sel_, sub_, cand_, byx_;
-  std::vector<double> best_;   // best child log weight per parent
-  std::vector<double> known_;  // three known child weights per parent
+  // adj_[a M + b] == stamp_: parents a and b are within d_min this step (eq. 29)
+  std::vector<std::uint16_t> adj_;
+  std::uint16_t stamp_ = 0;
+  std::vector<std::pair<int, int>> byx_;  // (cell, p) by cell: the sweep order (prepare_sweep)
+  std::vector<int> cell_, pcell_;         // prepare_sweep: cell starts (counting sort), cell of each parent
+  std::uint64_t key_count_ = 0;           // N_z^B: the keys merge_share splits over the threads
+  std::vector<int> sel_;
+  std::vector<std::pair<double, int>> crec_;  // the threads' kept (log weight, child) records
+  std::vector<std::uint64_t> selbits_;        // sort_indices: one bit per child index
+  std::vector<double> best_;                  // best child log weight per parent
+  std::vector<double> known_;                 // three known child weights per parent
   static constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<MatX> apar_;  // per-parent factors A (B x N_z)
-  std::vector<std::uint64_t> sub_key_;
-  std::vector<double> sub_logw_;
-  MergeWorkspace mws_;
+  MergeWorkspace mws_;      // classical RBPF's merge
   // per-thread UKF workspaces
   std::vector<std::unique_ptr<UkfKernel<Motion, Meas>>> kernels_;
   std::vector<std::unique_ptr<ThreadWork>> work_;
