@@ -163,6 +163,9 @@ void bind_mitigation(pybind11::module_& m) {
            "copy.")
       .def_property("sparsity", &BiasEstimator::sparsity, &BiasEstimator::set_sparsity,
                     "L1 tie-break weight added to eq. (14) (0 = plain eq. 14).")
+      .def_property("soft_threshold", &BiasEstimator::soft_threshold, &BiasEstimator::set_soft_threshold,
+                    "lambda of the soft threshold of estimate_from_innovation (0 = eq. 14 as written): with "
+                    "diagonal D, b_i = clip(r_i - lambda sqrt(D_ii), 0, b_i^U).")
       .def_property_readonly("size", &BiasEstimator::size)
       .def_property_readonly("anchors", &BiasEstimator::anchors)
       .def_property_readonly("H0", &BiasEstimator::H0, "Eq. (10), (M, 2).")
@@ -187,7 +190,10 @@ void bind_mitigation(pybind11::module_& m) {
           "reference", &QpBiasEkfOptions::reference,
           "BiasReference.Prediction (default: r = innovation, Sigma_v = eq. 27) or Snapshot (Sec. 3).")
       .def_readwrite("drop_free_rows", &QpBiasEkfOptions::drop_free_rows,
-                     "Leave rows whose b^_i is strictly inside its box out of the update (default True).");
+                     "Leave rows whose b^_i is strictly inside its box out of the update (default True).")
+      .def_readwrite("soft_threshold", &QpBiasEkfOptions::soft_threshold,
+                     "PREDICTION only: lambda of an L1 term on eq. (14) keeping rows within about lambda "
+                     "standard deviations as LOS (0 = eq. 14 as written; not in the paper).");
 
   py::class_<MitigationStep>(m, "MitigationStep", "What one QpBiasEkf update reports.")
       .def_readonly("filter", &MitigationStep::filter, "StepResult (log-likelihood, rows used, status).")

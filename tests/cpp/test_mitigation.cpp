@@ -3,6 +3,7 @@
 // no common region) with their flags and a finite state, and the bias-augmented EKF.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include "nlosloc/mitigation/mitigation.hpp"
@@ -159,6 +160,33 @@ TEST_CASE("eq. (14) referenced to the prediction (r = innovation, Sigma_v = eq. 
   const BiasEstimate& e3 = est.estimate_from_innovation(z, Vec<3>(1, 1, 1), -MatX::Identity(3, 3));
   CHECK((e3.flags & kFlagDegenerateGeometry) != 0);
   CHECK(e3.bias.isZero());
+}
+
+TEST_CASE("soft threshold on eq. (14): b = clip(r - lambda sqrt(D_ii), 0, b^U) for diagonal D",
+          "[mitigation][bias]") {
+  BiasEstimator est(small_anchors());
+  const VecX z = VecX::Constant(3, 20.0);
+  const double u23 = 40.0 - std::sqrt(200.0);  // eq. (15), as in the test above
+  // D = diag(1, 4, 9), lambda = 2: thresholds 2, 4, 6. r = (5, 3, 40): b = (3, 0, min(34, b^U_3) = b^U_3).
+  Vec<3> dg(1.0, 4.0, 9.0);
+  const MatX D = dg.asDiagonal();
+  est.set_soft_threshold(2.0);
+  CHECK(est.soft_threshold() == 2.0);
+  const BiasEstimate& e = est.estimate_from_innovation(z, Vec<3>(5.0, 3.0, 40.0), D);
+  REQUIRE(e.qp.ok());
+  CHECK_THAT(e.bias[0], WithinAbs(3.0, 1e-6));
+  CHECK_THAT(e.bias[1], WithinAbs(0.0, 1e-6));
+  CHECK_THAT(e.bias[2], WithinAbs(u23, 1e-6));
+  // lambda = 0 is eq. (14): every positive innovation read as bias.
+  est.set_soft_threshold(0.0);
+  const BiasEstimate& e0 = est.estimate_from_innovation(z, Vec<3>(5.0, 3.0, 40.0), D);
+  CHECK_THAT(e0.bias[0], WithinAbs(5.0, 1e-6));
+  CHECK_THAT(e0.bias[1], WithinAbs(3.0, 1e-6));
+  CHECK_THROWS_WITH(est.set_soft_threshold(-1.0), Catch::Matchers::StartsWith("soft_threshold: expected"));
+  CHECK(est.soft_threshold() == 0.0);
+  QpBiasEkfOptions o;
+  o.soft_threshold = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH(o.validate(), Catch::Matchers::StartsWith("options.soft_threshold: expected a finite"));
 }
 
 TEST_CASE("proposed update: rows whose b^ is inside its box are left out, the others use z - b^",

@@ -125,6 +125,34 @@ def test_bias_from_innovation_hand_computed() -> None:
     assert opt.reference == mitigation.BiasReference.Prediction and opt.drop_free_rows
 
 
+def test_soft_threshold_hand_computed() -> None:
+    # D = diag(1, 4, 9), lambda = 2: b = clip(r - 2 sqrt(D_ii), 0, b^U) (the C++ test's case).
+    est = mitigation.BiasEstimator(ANCHORS)
+    est.soft_threshold = 2.0
+    z = np.full(3, 20.0)
+    e = est.estimate_from_innovation(z, np.array([5.0, 3.0, 40.0]), np.diag([1.0, 4.0, 9.0]))
+    np.testing.assert_allclose(e.bias, [3.0, 0.0, 40.0 - np.sqrt(200.0)], atol=1e-6)
+    with pytest.raises(ValueError, match="soft_threshold: expected a finite value >= 0"):
+        est.soft_threshold = -1.0
+    assert est.soft_threshold == 2.0
+    # In the tracker: a LOS row with a small positive innovation is kept (b^ = 0), not dropped.
+    opt = mitigation.QpBiasEkfOptions()
+    assert opt.soft_threshold == 0.0
+    opt.noise = mitigation.RangeNoise(1.0)
+    opt.always_estimate = True
+    mean, cov = np.array([3.0, 4.0, 0.0, 0.0]), np.eye(4)
+    y = EXACT + np.array([0.5, 0.0, 3.0])
+    plain = mitigation.QpBiasEkf(motion(), ANCHORS, mean, cov, opt).update(y)
+    opt.soft_threshold = 2.0
+    f = mitigation.QpBiasEkf(motion(), ANCHORS, mean, cov, opt)
+    soft = f.update(y)
+    assert plain.rows_dropped == 2 and soft.rows_dropped < plain.rows_dropped
+    assert f.bias[0] == pytest.approx(0.0, abs=1e-6)
+    opt.soft_threshold = -0.5
+    with pytest.raises(ValueError, match="options.soft_threshold: expected a finite value >= 0"):
+        mitigation.QpBiasEkf(motion(), ANCHORS, mean, cov, opt)
+
+
 def test_innovation_test_eqs_31_32() -> None:
     opt = mitigation.QpBiasEkfOptions()
     opt.noise = mitigation.RangeNoise(1.0)

@@ -370,8 +370,22 @@ class BiasEstimator {
     nlosloc::detail::symmetrize(Hq_);
     gq_.noalias() = Svg_ * innovation;
     gq_ *= -2.0 * s;
+    // Soft threshold (set_soft_threshold; not in Ke & Wu): + 2 lambda sum_i b_i / sqrt(D_ii), i.e. eq. (14)
+    // plus an L1 term that, for diagonal D, gives b_i = clip(r_i - lambda sqrt(D_ii), 0, b_i^U).
+    if (soft_threshold_ > 0.0)
+      for (int i = 0; i < M_; ++i) gq_[i] += 2.0 * soft_threshold_ * s / std::sqrt(Sv_(i, i));
     return solve_scaled(s, e);
   }
+
+  /// lambda of the soft threshold of estimate_from_innovation (0 = eq. 14 as written): an L1 term
+  /// 2 lambda sum_i b_i / sqrt(D_ii) is added to eq. (14), so a row's bias is positive only when its
+  /// innovation exceeds about lambda standard deviations (exactly so for diagonal D). Without it every
+  /// positive innovation, noise included, is read as bias. >= 0 and finite.
+  void set_soft_threshold(double lambda) {
+    nlosloc::detail::ensure_nonnegative(lambda, "soft_threshold");
+    soft_threshold_ = lambda;
+  }
+  double soft_threshold() const { return soft_threshold_; }
 
   /// Weight of the L1 tie-break added to eq. (14) (relative to the mean Hessian diagonal; 0 = the plain
   /// eq. 14, whose minimiser is not unique, leaving the pick to the solver). >= 0.
@@ -431,6 +445,7 @@ class BiasEstimator {
   int M_;
   std::unique_ptr<BoxQp> solver_;
   double sparsity_ = 0.0;
+  double soft_threshold_ = 0.0;
   MatX l_;  ///< l_ij, anchor distances (eq. 15)
   MatX H0_, U_, L_, Sv_, Svg_, T_, Hq_;
   VecX gq_, y_, r_, rinv_, lq_, uq_, tmp_;

@@ -54,7 +54,8 @@ class K2 : public Scenario {
         "everything else as K1: start (1000, 1000) m, NLOS error max(0, N(513, 436^2)) drawn every step, "
         "initial belief truth + N(0, diag(50^2, 50^2, 10^2, 10^2)), first 100 samples left out",
         "estimators as in K1 (proposed: gamma = 1.1, R = 50^2 I, QP referenced to the prediction; iterated "
-        "NLOS EKF: bias random walk 1 m/step, prior N(0, 500^2), one update per step; EKF: R = 50^2 I)",
+        "NLOS EKF: bias random walk 1 m/step, prior N(0, 500^2), one update per step; EKF: R = 50^2 I; "
+        "proposed-soft: soft threshold lambda = 1)",
         "identification accuracy: the proposed tracker's eq. (32) decision (global, given to every node) "
         "against the true sight, per sample; ranging error of an estimator: | ||p^ - a_i|| - d_i |",
     };
@@ -117,11 +118,11 @@ class K2 : public Scenario {
 
 /// K2 "proposed" (as K1's).
 inline std::unique_ptr<Estimator> make_k2_proposed(const K2& s, int /*case_index*/) {
-  mitigation::QpBiasEkfOptions o;
-  o.gamma = s.params().base.gamma;
-  o.noise.sigma0 = s.params().base.sigma_los;
-  return std::make_unique<QpBiasEkfEstimator>(
-      K1::kProposed, mitigation::QpBiasEkf(s.motion(), s.params().base.anchors, Gaussian<4>(), o));
+  return make_k1_qp_bias_ekf(K1::kProposed, s.params().base, s.motion(), 0.0);
+}
+/// K2 "proposed-soft" (as K1's).
+inline std::unique_ptr<Estimator> make_k2_proposed_soft(const K2& s, int /*case_index*/) {
+  return make_k1_qp_bias_ekf(K1::kProposedSoft, s.params().base, s.motion(), K1::kSoftThreshold);
 }
 /// K2 "iterated-NLOS-EKF" (as K1's).
 inline std::unique_ptr<Estimator> make_k2_iterated(const K2& s, int /*case_index*/) {
@@ -146,6 +147,7 @@ inline void register_k2(Registry& r) {
   if (mitigation::have_default_box_qp()) r.add_estimator<K2>("K2", K1::kProposed, make_k2_proposed);
   r.add_estimator<K2>("K2", K1::kIterated, make_k2_iterated);
   r.add_estimator<K2>("K2", K1::kEkf, make_k2_ekf);
+  if (mitigation::have_default_box_qp()) r.add_estimator<K2>("K2", K1::kProposedSoft, make_k2_proposed_soft);
 }
 
 /// Per-estimator output of the K2 study (means over runs).

@@ -45,6 +45,7 @@ class K3 : public Scenario {
   static constexpr const char* kProposed = K1::kProposed;
   static constexpr const char* kIterated = K1::kIterated;
   static constexpr const char* kEkf = K1::kEkf;
+  static constexpr const char* kProposedSoft = K1::kProposedSoft;
 
   explicit K3(const K3Params& p = K3Params())
       : p_(p),
@@ -79,6 +80,7 @@ class K3 : public Scenario {
         "all three filters: R_i = (0.02 d^_i)^2 with d^_i the range at the predicted position (the true "
         "distance is unknown to them); EKF = the proposed tracker with mitigation off",
         "iterated NLOS EKF: bias prior N(0, 10^2), random walk std 0.5 m/step, 3 iterations, b >= 0",
+        "proposed-soft: the proposed tracker with soft threshold lambda = 1 (qp_bias_ekf.hpp, item 4)",
     };
   }
   std::vector<std::string> cases() const override {
@@ -144,14 +146,23 @@ class K3 : public Scenario {
   MeasurementStack stack_;
 };
 
-/// K3 "proposed": QP-bias EKF with R_i = (0.02 d^_i)^2 and gamma = 1.1, on the case's geometry.
-inline std::unique_ptr<Estimator> make_k3_proposed(const K3& s, int c) {
+/// QP-bias EKF with R_i = (0.02 d^_i)^2 and gamma = 1.1, on case c's geometry, soft threshold lambda.
+inline std::unique_ptr<Estimator> make_k3_qp_bias_ekf(const char* name, const K3& s, int c, double lambda) {
   mitigation::QpBiasEkfOptions o;
   o.gamma = s.params().gamma;
   o.noise.sigma0 = 0.0;
   o.noise.relative = s.params().sigma_rel;
+  o.soft_threshold = lambda;
   return std::make_unique<QpBiasEkfEstimator>(
-      K3::kProposed, mitigation::QpBiasEkf(s.motion(), s.anchors_of(c), Gaussian<4>(), o));
+      name, mitigation::QpBiasEkf(s.motion(), s.anchors_of(c), Gaussian<4>(), o));
+}
+/// K3 "proposed".
+inline std::unique_ptr<Estimator> make_k3_proposed(const K3& s, int c) {
+  return make_k3_qp_bias_ekf(K3::kProposed, s, c, 0.0);
+}
+/// K3 "proposed-soft": soft threshold lambda = 1 (qp_bias_ekf.hpp, item 4).
+inline std::unique_ptr<Estimator> make_k3_proposed_soft(const K3& s, int c) {
+  return make_k3_qp_bias_ekf(K3::kProposedSoft, s, c, K1::kSoftThreshold);
 }
 /// K3 "iterated-NLOS-EKF".
 inline std::unique_ptr<Estimator> make_k3_iterated(const K3& s, int c) {
@@ -180,6 +191,7 @@ inline void register_k3(Registry& r) {
   if (mitigation::have_default_box_qp()) r.add_estimator<K3>("K3", K3::kProposed, make_k3_proposed);
   r.add_estimator<K3>("K3", K3::kIterated, make_k3_iterated);
   r.add_estimator<K3>("K3", K3::kEkf, make_k3_ekf);
+  if (mitigation::have_default_box_qp()) r.add_estimator<K3>("K3", K3::kProposedSoft, make_k3_proposed_soft);
 }
 
 /// One line per estimator: P(position error <= threshold) pooled over runs and samples k >= discard

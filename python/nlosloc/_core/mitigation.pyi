@@ -380,6 +380,14 @@ class BiasEstimator:
     def size(self) -> int:
         ...
     @property
+    def soft_threshold(self) -> float:
+        """
+        lambda of the soft threshold of estimate_from_innovation (0 = eq. 14 as written): with diagonal D, b_i = clip(r_i - lambda sqrt(D_ii), 0, b_i^U).
+        """
+    @soft_threshold.setter
+    def soft_threshold(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def sparsity(self) -> float:
         """
         L1 tie-break weight added to eq. (14) (0 = plain eq. 14).
@@ -445,6 +453,14 @@ class QpBiasEkfOptions:
         """
     @reference.setter
     def reference(self, arg0: BiasReference) -> None:
+        ...
+    @property
+    def soft_threshold(self) -> float:
+        """
+        PREDICTION only: lambda of an L1 term on eq. (14) keeping rows within about lambda standard deviations as LOS (0 = eq. 14 as written; not in the paper).
+        """
+    @soft_threshold.setter
+    def soft_threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def sparsity(self) -> float:
