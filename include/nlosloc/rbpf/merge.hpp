@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <utility>
 #include <vector>
 
 #include "nlosloc/core/types.hpp"
@@ -55,9 +56,17 @@ struct MergeWorkspace {
 
 /// The strict order of merge and selection: heavier log weight first, ties to the lower index, so the
 /// kept set and the merge's visiting order are unique whatever order the candidates arrive in.
+inline bool heavier_first(double wa, int a, double wb, int b) { return wa != wb ? wa > wb : a < b; }
+/// That order on indices into the log weights `logw`.
 struct HeavierFirst {
   const double* logw;
-  bool operator()(int a, int b) const { return logw[a] != logw[b] ? logw[a] > logw[b] : a < b; }
+  bool operator()(int a, int b) const { return heavier_first(logw[a], a, logw[b], b); }
+};
+/// The same order on (log weight, index) records.
+struct HeavierRecordFirst {
+  bool operator()(const std::pair<double, int>& a, const std::pair<double, int>& b) const {
+    return heavier_first(a.first, a.second, b.first, b.second);
+  }
 };
 
 namespace detail {

@@ -159,6 +159,7 @@ class Rbpf {
       w->crec.reserve(static_cast<std::size_t>(M));
       w->porder.reserve(static_cast<std::size_t>(M));
       w->psorted.reserve(static_cast<std::size_t>(M));
+      w->pmerge.reserve(static_cast<std::size_t>(M));
       w->mprob.setZero(B_, nz_);
       w->opt.assign(static_cast<std::size_t>(B_) * static_cast<std::size_t>(nz_), 0);
       w->ktmp.assign(3 * static_cast<std::size_t>(M), 0.0);
@@ -298,6 +299,7 @@ class Rbpf {
     std::vector<std::pair<double, int>> crec;  // (log weight, index) of cand, written at the region's end
     std::vector<int> porder;                   // parents that pass the cut, by decreasing best child
     std::vector<int> psorted;                  // this thread's share of the parents, by decreasing best child
+    std::vector<int> pmerge;                   // scratch of the ranking's merge
     std::vector<double> ktmp;                  // scratch copy of known_
     std::vector<int> opt;    // B x N_z: each anchor's conditions by decreasing factor (offer_pruned)
     std::vector<char> near;  // near[p] = 1 when this thread's sweep found a neighbour of parent p
@@ -441,7 +443,6 @@ class Rbpf {
           if (is_near(p)) emit_children(p, w, nullptr);
         any_near = enumerate_share(th, T, w, top);
       });
-      if (!merge) any_near = false;
       if (merge) {
         // any_near must agree across threads: recomputed from the shared flags when this thread failed
         if (err) any_near = count_near() > 0;
@@ -540,18 +541,12 @@ class Rbpf {
     // The ranking merges the threads' sorted shares (phase A) instead of sorting all parents again on
     // every thread; std::merge keeps HeavierFirst's strict order, so it is the full sort's.
     const HeavierFirst by_best{best_.data()};
-    w.porder.clear();
-    if (T == 2) {
-      const auto& a = work_[0]->psorted;
-      const auto& b = work_[1]->psorted;
-      w.porder.resize(a.size() + b.size());
-      std::merge(a.begin(), a.end(), b.begin(), b.end(), w.porder.begin(), by_best);
-    } else {
-      for (int t = 0; t < T; ++t) {
-        const auto& a = work_[static_cast<std::size_t>(t)]->psorted;
-        w.porder.insert(w.porder.end(), a.begin(), a.end());
-      }
-      if (T > 2) std::sort(w.porder.begin(), w.porder.end(), by_best);
+    w.porder.assign(work_[0]->psorted.begin(), work_[0]->psorted.end());
+    for (int t = 1; t < T; ++t) {
+      const auto& a = work_[static_cast<std::size_t>(t)]->psorted;
+      w.pmerge.resize(w.porder.size() + a.size());
+      std::merge(w.porder.begin(), w.porder.end(), a.begin(), a.end(), w.pmerge.begin(), by_best);
+      w.porder.swap(w.pmerge);
     }
     // Parents with a neighbour are out; the rest is cut at tau (best_ decreases along the ranking).
     std::size_t kept = 0;
@@ -719,11 +714,9 @@ class Rbpf {
       crec_.insert(crec_.end(), w.crec.begin(), w.crec.end());
     }
     const std::size_t keep = std::min(M, crec_.size());
-    if (keep < crec_.size())  // HeavierFirst on (log weight, index) records
+    if (keep < crec_.size())
       std::nth_element(crec_.begin(), crec_.begin() + static_cast<std::ptrdiff_t>(keep - 1), crec_.end(),
-                       [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
-                         return a.first != b.first ? a.first > b.first : a.second < b.second;
-                       });
+                       HeavierRecordFirst{});
     // Group the survivors by parent so each parent's sigma points are computed once per thread: a
     // child's index is parent * per + rank, so index order groups them.
     sel_.clear();
