@@ -62,11 +62,46 @@ struct HeavierFirst {
   const double* logw;
   bool operator()(int a, int b) const { return heavier_first(logw[a], a, logw[b], b); }
 };
-/// The same order on (log weight, index) records.
+/// A candidate child of the reordered RBPF by value: log weight, index (p x children per parent + j: the
+/// tie break of the strict order, and the parent) and situation key. The threads keep their candidates in
+/// their own buffers, so selection and the UKF bank read them sequentially from the thread that made them
+/// instead of scattered entries of shared arrays last written by another core.
+struct ChildRecord {
+  double logw;
+  int idx;
+  std::uint64_t key;
+};
+/// heavier_first on records.
 struct HeavierRecordFirst {
-  bool operator()(const std::pair<double, int>& a, const std::pair<double, int>& b) const {
-    return heavier_first(a.first, a.second, b.first, b.second);
+  bool operator()(const ChildRecord& a, const ChildRecord& b) const {
+    return heavier_first(a.logw, a.idx, b.logw, b.idx);
   }
+};
+
+/// The M heaviest records offered so far (a heap of at most M records in `out`, lightest at the front;
+/// reserve M in `out` for no allocation). Records of zero weight are refused.
+class RecordTop {
+ public:
+  RecordTop(int M, std::vector<ChildRecord>& out) : M_(M), out_(out) { out_.clear(); }
+  bool full() const { return static_cast<int>(out_.size()) >= M_; }
+  /// Log weight of the lightest kept record (valid when full()).
+  double threshold() const { return out_.front().logw; }
+  void offer(const ChildRecord& r) {
+    if (!(r.logw > -std::numeric_limits<double>::infinity()) || M_ <= 0) return;
+    const HeavierRecordFirst cmp;
+    if (!full()) {
+      out_.push_back(r);
+      std::push_heap(out_.begin(), out_.end(), cmp);
+    } else if (cmp(r, out_.front())) {
+      std::pop_heap(out_.begin(), out_.end(), cmp);
+      out_.back() = r;
+      std::push_heap(out_.begin(), out_.end(), cmp);
+    }
+  }
+
+ private:
+  int M_;
+  std::vector<ChildRecord>& out_;
 };
 
 namespace detail {

@@ -19,6 +19,7 @@
 ///  - estimate (eq. 28), mixture covariance and situation probabilities: over all weighted children in the
 ///    classical order (as eq. 28 sums over i and k), over the M updated particles in the reordered order.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <exception>
@@ -86,7 +87,8 @@ class Rbpf {
         quality_(std::move(quality)),
         opt_(options),
         pool_(std::make_unique<ThreadPool>(options.threads)),
-        barrier_(std::make_unique<SpinBarrier>()) {
+        barrier_(std::make_unique<SpinBarrier>()),
+        shared_cut_(std::make_unique<SharedCut[]>(static_cast<std::size_t>(std::max(options.threads, 1)))) {
     ::nlosloc::detail::check_layout<N>(meas);
     meas.check_ready();
     NLOSLOC_ENSURE(options.num_particles >= 1,
@@ -155,11 +157,9 @@ class Rbpf {
       w->T.resize(nz_, nz_);
       w->speeds.setZero(B_);
       w->s.setZero(B_);
-      w->cand.reserve(static_cast<std::size_t>(M));
       w->crec.reserve(static_cast<std::size_t>(M));
-      w->porder.reserve(static_cast<std::size_t>(M));
+      w->half.reserve(static_cast<std::size_t>(M));
       w->psorted.reserve(static_cast<std::size_t>(M));
-      w->pmerge.reserve(static_cast<std::size_t>(M));
       w->mprob.setZero(B_, nz_);
       w->opt.assign(static_cast<std::size_t>(B_) * static_cast<std::size_t>(nz_), 0);
       w->ktmp.assign(3 * static_cast<std::size_t>(M), 0.0);
@@ -179,8 +179,12 @@ class Rbpf {
     thread_status_.assign(static_cast<std::size_t>(pool_->size()), CholeskyStatus::kOk);
     Lq_.resize(B_, nz_);
     crec_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
-    if ((cap + 63) / 64 <= kBitmapSortPerKept * static_cast<std::size_t>(M))
+    if ((cap + 63) / 64 <= kBitmapSortPerKept * static_cast<std::size_t>(M)) {
       selbits_.assign((cap + 63) / 64, 0);
+      selrank_.assign((cap + 63) / 64, 0);
+    }
+    sel_key_.reserve(static_cast<std::size_t>(M));
+    sel_prior_.reserve(static_cast<std::size_t>(M));
     prob_.resize(B_, nz_);
     y_.resize(meas.rows());
     reset(initial, t0);
@@ -295,14 +299,12 @@ class Rbpf {
     MatX T;
     VecX speeds;
     VecXi s;
-    std::vector<int> cand;  // top-M children of this thread's share of the parents without a neighbour
-    std::vector<std::pair<double, int>> crec;  // (log weight, index) of cand, written at the region's end
-    std::vector<int> porder;                   // parents that pass the cut, by decreasing best child
-    std::vector<int> psorted;                  // this thread's share of the parents, by decreasing best child
-    std::vector<int> pmerge;                   // scratch of the ranking's merge
-    std::vector<double> ktmp;                  // scratch copy of known_
-    std::vector<int> opt;    // B x N_z: each anchor's conditions by decreasing factor (offer_pruned)
-    std::vector<char> near;  // near[p] = 1 when this thread's sweep found a neighbour of parent p
+    std::vector<ChildRecord> crec;  // this thread's top-M candidates (a RecordTop heap)
+    std::vector<double> half;       // min-heap of the H heaviest offered weights (enumerate_share)
+    std::vector<int> psorted;       // this thread's share of the parents, by decreasing best child
+    std::vector<double> ktmp;       // scratch copy of known_
+    std::vector<int> opt;           // B x N_z: each anchor's conditions by decreasing factor (offer_pruned)
+    std::vector<char> near;         // near[p] = 1 when this thread's sweep found a neighbour of parent p
     // merge_share: this thread's children of parents with a neighbour, their keys and log weights
     std::vector<int> sub;
     std::vector<std::uint64_t> sub_key;
@@ -339,44 +341,48 @@ class Rbpf {
     }
   }
 
-  /// Writes parent p's children into off_* at [p * per, (p + 1) * per) (eq. 23; weights of eq. 32 / first
-  /// factors of eq. 25) and offers each to `top` when given.
-  void emit_children(int p, ThreadWork& w, TopSelector* top,
-                     double floor = -std::numeric_limits<double>::infinity()) {
-    const int per = per_parent_;
+  /// Calls emit(j, key, log weight) for parent p's children j = 0..per-1 (eq. 23; weights of eq. 32 /
+  /// first factors of eq. 25), child index p * per + j.
+  template <class Emit>
+  void for_each_child(int p, ThreadWork& w, Emit emit) {
     const double base = logw_[static_cast<std::size_t>(p)];
-    auto u = static_cast<std::size_t>(p) * static_cast<std::size_t>(per);
-    const std::size_t end = u + static_cast<std::size_t>(per);
-    enumerate_offspring(apar_[static_cast<std::size_t>(p)], static_cast<std::uint64_t>(per), w.best,
-                        [&](std::uint64_t key, double s) {
-                          off_parent_[u] = p;
-                          off_key_[u] = key;
-                          off_logw_[u] = base + s;
-                          if (top && off_logw_[u] >= floor) top->offer(static_cast<int>(u));
-                          ++u;
-                        });
-    for (; u < end; ++u) {  // not reached: both enumerations emit exactly `per` children
+    int j = 0;
+    enumerate_offspring(apar_[static_cast<std::size_t>(p)], static_cast<std::uint64_t>(per_parent_), w.best,
+                        [&](std::uint64_t key, double s) { emit(j++, key, base + s); });
+    for (; j < per_parent_; ++j) emit(j, 0, -kInf);  // not reached: both enumerations emit `per` children
+  }
+
+  /// Writes parent p's children into off_* at [p * per, (p + 1) * per).
+  void emit_children(int p, ThreadWork& w) {
+    const std::size_t u0 = static_cast<std::size_t>(p) * static_cast<std::size_t>(per_parent_);
+    for_each_child(p, w, [&](int j, std::uint64_t key, double logw) {
+      const std::size_t u = u0 + static_cast<std::size_t>(j);
       off_parent_[u] = p;
-      off_key_[u] = 0;
-      off_logw_[u] = -std::numeric_limits<double>::infinity();
-    }
+      off_key_[u] = key;
+      off_logw_[u] = logw;
+    });
+  }
+
+  /// Calls offer(record) for the children of parent p at or above `floor` (bounded enumeration).
+  template <class Offer>
+  void offer_children(int p, ThreadWork& w, double floor, Offer& offer) {
+    const int u0 = p * per_parent_;
+    for_each_child(p, w, [&](int j, std::uint64_t key, double logw) {
+      if (logw >= floor) offer(ChildRecord{logw, u0 + j, key});
+    });
   }
 
   /// Offers to `top` the children of parent p whose weight can reach the current cut (the larger of
   /// `floor` and top's M-th weight) without visiting the others (enumerate_above). Same children, keys and
-  /// indices p * per + key as the full enumeration, which it replaces when N_z^B is enumerated; only the
-  /// offered children are written to off_*.
-  void offer_pruned(int p, ThreadWork& w, TopSelector& top, double floor) {
-    const auto u0 = static_cast<std::size_t>(p) * static_cast<std::size_t>(per_parent_);
+  /// indices p * per + key as the full enumeration, which it replaces when N_z^B is enumerated.
+  template <class Offer>
+  void offer_pruned(int p, ThreadWork& w, const RecordTop& top, double floor, Offer& offer) {
+    const int u0 = p * per_parent_;
     enumerate_above(
         apar_[static_cast<std::size_t>(p)], logw_[static_cast<std::size_t>(p)], pow_nz_.data(), w.opt.data(),
         [&] { return top.full() ? std::max(floor, top.threshold()) : floor; },
         [&](std::uint64_t key, double weight) {
-          const std::size_t u = u0 + static_cast<std::size_t>(key);
-          off_parent_[u] = p;
-          off_key_[u] = key;
-          off_logw_[u] = weight;
-          top.offer(static_cast<int>(u));
+          offer(ChildRecord{weight, u0 + static_cast<int>(key), key});
         });
   }
 
@@ -386,7 +392,7 @@ class Rbpf {
       ThreadWork& w = *work_[static_cast<std::size_t>(th)];
       for (int p = pb; p < pe; ++p) {
         parent_factors(p, k, w, apar_[static_cast<std::size_t>(p)]);
-        emit_children(p, w, nullptr);
+        emit_children(p, w);
       }
     });
     return count_ * per_parent_;
@@ -405,12 +411,18 @@ class Rbpf {
   ///     different keys never merge) and offers the survivors to the same top-M.
   /// The union of the threads' top-M lists then holds the global top M. Every phase runs on all threads,
   /// so nothing but the final selection of at most T x M candidates is serial.
-  int expand_reordered(long k, double d_min) {
-    const int T = active_threads(count_);
+  void reordered_region(long k, double t, RbpfStepInfo& info) {
+    const double d_min = info.merge_threshold;
+    const auto M = static_cast<int>(opt_.num_particles);
+    // One region for the whole step: the bank of a step that starts from few parents (the first ones)
+    // may still be large enough for the pool.
+    const long long most =
+        std::min<long long>(M, static_cast<long long>(count_) * static_cast<long long>(per_parent_));
+    const int T = active_threads(static_cast<int>(std::max<long long>(count_, most)));
     expand_threads_ = T;
     const bool merge = opt_.merge && count_ > 1;
     if (merge) prepare_sweep(d_min);
-    const auto M = static_cast<int>(opt_.num_particles);
+    region_failed_ = false;
     pool_->parallel_for(T, [&](int th, int, int) {
       ThreadWork& w = *work_[static_cast<std::size_t>(th)];
       std::exception_ptr err;
@@ -425,7 +437,9 @@ class Rbpf {
       const int pb = static_cast<int>(static_cast<long long>(count_) * th / T);
       const int pe = static_cast<int>(static_cast<long long>(count_) * (th + 1) / T);
       w.merged = 0;
-      TopSelector top(off_logw_.data(), M, w.cand);
+      RecordTop top(M, w.crec);
+      shared_cut_[static_cast<std::size_t>(th)].q.store(-kInf, std::memory_order_relaxed);  // stale: invalid
+      // A. neighbours (sweep share), factors and bounds of this thread's parents
       guarded([&] {
         std::fill(w.near.begin(), w.near.begin() + count_, 0);
         if (merge) sweep_near(th, T, d_min, w);
@@ -434,30 +448,80 @@ class Rbpf {
         std::iota(w.psorted.begin(), w.psorted.end(), pb);
         std::sort(w.psorted.begin(), w.psorted.end(), HeavierFirst{best_.data()});
       });
-      // Every thread arrives at both barriers, even after an exception (no deadlock); the second is
-      // skipped by all threads alike when no parent has a neighbour (they all see the same flags).
+      // Every thread arrives at every barrier, even after an exception (no deadlock); the one before the
+      // merge is skipped by all threads alike when no parent has a neighbour (they see the same flags).
       barrier_->arrive_and_wait(T);
-      bool any_near = false;
+      // B. children of the parents with a neighbour; first shared bound; enumeration of the others
       guarded([&] {
         for (int p = pb; p < pe; ++p)
-          if (is_near(p)) emit_children(p, w, nullptr);
-        any_near = enumerate_share(th, T, w, top);
+          if (is_near(p)) emit_children(p, w);
+        publish_known_bound(th, T, w);
       });
-      if (merge) {
-        // any_near must agree across threads: recomputed from the shared flags when this thread failed
-        if (err) any_near = count_near() > 0;
-        if (any_near) {
-          barrier_->arrive_and_wait(T);
-          guarded([&] { merge_share(th, T, w, top); });
-        }
+      barrier_->arrive_and_wait(T);
+      guarded([&] { enumerate_share(th, T, w, top); });
+      // C. merge of the neighbours' children, by key range
+      if (merge && count_near() > 0) {
+        barrier_->arrive_and_wait(T);
+        guarded([&] { merge_share(th, T, w, top); });
       }
-      // The kept children with their weights, in this thread's cache: the serial selection then reads
-      // one contiguous array per thread instead of scattered entries of off_logw_ written by other cores.
-      w.crec.clear();
-      for (const int i : w.cand) w.crec.push_back({off_logw_[static_cast<std::size_t>(i)], i});
+      // Selection (serial, on the calling thread) and the split of the bank, then the bank on all threads.
+      barrier_->arrive_and_wait(T);
+      if (th == 0) {
+        guarded([&] { select_kept(info); });
+        if (err) region_failed_ = true;
+      }
+      barrier_->arrive_and_wait(T);
+      if (!region_failed_ && th < bank_threads_)
+        guarded([&] {
+          bank_part(
+              th, t,
+              [&](int i) {
+                const auto u = static_cast<std::size_t>(i);
+                return BankChild{sel_[u] / per_parent_, sel_prior_[u], sel_key_[u]};
+              },
+              [&](int i) -> State& { return nmean_[static_cast<std::size_t>(i)]; },
+              [&](int i) -> Cov& { return ncov_[static_cast<std::size_t>(i)]; }, nlogw_.data(),
+              [&](int b, int e, ThreadWork& tw) { accumulate_moments(b, e, tw); });
+        });
       if (err) std::rethrow_exception(err);
     });
-    return count_ * per_parent_;
+    bank_collect(info);
+  }
+
+  /// The kept children: the global top M lies in the union of the threads' top-M lists (merged children
+  /// included); selected in linear time, ties by index (a strict order, so the set is unique). Zero-weight
+  /// children (absorbed, or impossible) are never offered. Then ordered by index (sel_*) and split for the
+  /// bank.
+  void select_kept(RbpfStepInfo& info) {
+    const auto M = static_cast<std::size_t>(opt_.num_particles);
+    info.merged = 0;
+    crec_.clear();
+    // Records below the final shared bound cannot be among the M heaviest (enumerate_share): dropped
+    // before the selection, which then sorts about M records instead of up to T x M.
+    const double floor = expand_threads_ > 1 ? lowered(shared_bound(expand_threads_)) : -kInf;
+    for (int th = 0; th < expand_threads_; ++th) {
+      const ThreadWork& w = *work_[static_cast<std::size_t>(th)];
+      info.merged += w.merged;
+      for (const auto& r : w.crec)
+        if (r.logw >= floor) crec_.push_back(r);
+    }
+    const std::size_t keep = std::min(M, crec_.size());
+    if (keep < crec_.size())
+      std::nth_element(crec_.begin(), crec_.begin() + static_cast<std::ptrdiff_t>(keep - 1), crec_.end(),
+                       HeavierRecordFirst{});
+    crec_.resize(keep);
+    // Group the survivors by parent so each parent's sigma points are computed once per thread: a
+    // child's index is parent * per + j, so index order groups them.
+    order_by_index(crec_);
+    const int ns = static_cast<int>(keep);
+    info.ukf_runs = ns;
+    // The bank also accumulates, per thread, the moments of eq. (27)-(28) around c = F x_hat_{t-1}
+    // (close to the new estimate, so the raw second moment loses no precision), the situation
+    // probabilities and the next step's predicted means: no serial pass over the particles after it.
+    centre_.noalias() = motion_.F() * est_;
+    bank_split(ns, std::min(expand_threads_, active_threads(ns)), [&](int i) {
+      return BankChild{sel_[static_cast<std::size_t>(i)] / per_parent_, 0.0, 0};
+    });
   }
 
   /// True when parent p has a neighbour within d_min (set by any thread's sweep this step).
@@ -509,62 +573,85 @@ class Rbpf {
     known_[u + 2] = per_parent_ < 3 ? -kInf : bp - g2;
   }
 
-  /// Thread th's part of the reordered enumeration, after every parent's bounds are known: offers to
-  /// `top` the children of its share of the parents without a neighbour that can reach the cut. Returns
-  /// whether any parent has a neighbour.
-  bool enumerate_share(int th, int T, ThreadWork& w, TopSelector& top) {
-    const auto M = static_cast<std::size_t>(opt_.num_particles);
-    // tau: the M-th largest of the known weights (of distinct children of parents without a neighbour)
-    // is a lower bound of the M-th heaviest child among those parents; lighter children and parents
-    // whose best child is lighter are skipped. Slightly lowered for the summation order.
-    double tau = -kInf;
+  /// Shared cut of the reordered enumeration. Thread t publishes q_t, a weight such that at least H =
+  /// ceil(M / T) distinct children of its parents without a neighbour (never merged, so all survive to
+  /// the selection) weigh q_t or more. The threads together then hold T x H >= M such children of weight
+  /// >= min_t q_t, so the global M-th weight is at least that: a lighter child cannot be kept, whichever
+  /// thread finds it. Without it each thread would fill its own top-M and enumerate about as many children
+  /// as one thread does for all parents.
+  double shared_bound(int T) const {
+    double g = kInf;
+    for (int u = 0; u < T; ++u)
+      g = std::min(g, shared_cut_[static_cast<std::size_t>(u)].q.load(std::memory_order_relaxed));
+    return g;
+  }
+  int share_size(int T) const { return (opt_.num_particles + T - 1) / T; }
+  /// A bound lowered slightly: known weights and enumerated ones are summed in different orders.
+  static double lowered(double v) { return std::isfinite(v) ? v - 1e-9 * (1.0 + std::abs(v)) : v; }
+
+  /// First q_th, from the known child weights (parent_bounds) of this thread's parents without a
+  /// neighbour: their H-th largest. Read by every thread after the next barrier.
+  void publish_known_bound(int th, int T, ThreadWork& w) {
+    const auto H = static_cast<std::size_t>(share_size(T));
     std::size_t nk = 0;
-    bool any_near = false;
-    for (int p = 0; p < count_; ++p) {
-      if (is_near(p)) {
-        any_near = true;
-        continue;
-      }
+    for (const int p : w.psorted) {
+      if (is_near(p)) continue;
       const auto u = 3 * static_cast<std::size_t>(p);
       for (std::size_t i = 0; i < 3; ++i) w.ktmp[nk++] = known_[u + i];
     }
-    if (nk >= M) {
-      std::nth_element(w.ktmp.begin(), w.ktmp.begin() + static_cast<std::ptrdiff_t>(M - 1),
+    double q = -kInf;
+    if (nk >= H) {
+      std::nth_element(w.ktmp.begin(), w.ktmp.begin() + static_cast<std::ptrdiff_t>(H - 1),
                        w.ktmp.begin() + static_cast<std::ptrdiff_t>(nk), std::greater<double>());
-      const double v = w.ktmp[M - 1];
-      if (std::isfinite(v)) tau = v - 1e-9 * (1.0 + std::abs(v));
+      q = w.ktmp[H - 1];
     }
-    // detail::may_reach: the margin covers the different summation order of the children's weights.
+    shared_cut_[static_cast<std::size_t>(th)].q.store(q, std::memory_order_relaxed);
+  }
+
+  /// Thread th's part of the reordered enumeration, after every q_t is published: offers to `top` the
+  /// children of its own parents without a neighbour (w.psorted: by decreasing best child, so the loop
+  /// stops at the first parent whose best child cannot reach the cut) that can reach the cut, the larger
+  /// of the shared bound and top's M-th weight. The thread's own parents, not a share of a global ranking:
+  /// their factors are in this core's cache (reading another core's costs more than the imbalance).
+  void enumerate_share(int th, int T, ThreadWork& w, RecordTop& top) {
     using nlosloc::rbpf::detail::may_reach;
-    // The other parents that pass the cut, by decreasing best child, dealt round-robin to the threads so
-    // each gets an even share of the parents that survive the per-thread cut below.
-    // The ranking merges the threads' sorted shares (phase A) instead of sorting all parents again on
-    // every thread; std::merge keeps HeavierFirst's strict order, so it is the full sort's.
-    const HeavierFirst by_best{best_.data()};
-    w.porder.assign(work_[0]->psorted.begin(), work_[0]->psorted.end());
-    for (int t = 1; t < T; ++t) {
-      const auto& a = work_[static_cast<std::size_t>(t)]->psorted;
-      w.pmerge.resize(w.porder.size() + a.size());
-      std::merge(w.porder.begin(), w.porder.end(), a.begin(), a.end(), w.pmerge.begin(), by_best);
-      w.porder.swap(w.pmerge);
-    }
-    // Parents with a neighbour are out; the rest is cut at tau (best_ decreases along the ranking).
-    std::size_t kept = 0;
-    for (const int p : w.porder) {
-      if (!may_reach(best_[static_cast<std::size_t>(p)], tau)) break;
-      if (!is_near(p)) w.porder[kept++] = p;
-    }
-    w.porder.resize(kept);
-    for (std::size_t j = static_cast<std::size_t>(th); j < w.porder.size();
-         j += static_cast<std::size_t>(T)) {
-      const int p = w.porder[j];
-      if (top.full() && !may_reach(best_[static_cast<std::size_t>(p)], top.threshold())) break;
+    const int H = share_size(T);
+    w.half.clear();
+    double floor = lowered(shared_bound(T));
+    int since = 0;
+    auto offer = [&](const ChildRecord& r) {
+      if (!(r.logw > -kInf)) return;
+      top.offer(r);
+      if (T == 1) return;
+      // the H heaviest offered weights: q_th rises with them (exchanged every kShareEvery parents: each
+      // read of another core's slot is a cache miss)
+      if (static_cast<int>(w.half.size()) < H) {
+        w.half.push_back(r.logw);
+        std::push_heap(w.half.begin(), w.half.end(), std::greater<double>());
+      } else if (r.logw > w.half.front()) {
+        std::pop_heap(w.half.begin(), w.half.end(), std::greater<double>());
+        w.half.back() = r.logw;
+        std::push_heap(w.half.begin(), w.half.end(), std::greater<double>());
+      }
+    };
+    auto& mine = shared_cut_[static_cast<std::size_t>(th)].q;
+    for (const int p : w.psorted) {
+      if (T > 1 && ++since == kShareEvery) {
+        since = 0;
+        if (static_cast<int>(w.half.size()) == H && w.half.front() > mine.load(std::memory_order_relaxed))
+          mine.store(w.half.front(), std::memory_order_relaxed);
+        floor = std::max(floor, lowered(shared_bound(T)));
+      }
+      const double cut = top.full() ? std::max(floor, top.threshold()) : floor;
+      if (!may_reach(best_[static_cast<std::size_t>(p)], cut)) break;
+      if (is_near(p)) continue;
       if (full_enum_)
-        offer_pruned(p, w, top, tau);
+        offer_pruned(p, w, top, floor, offer);
       else
-        emit_children(p, w, &top, tau);
+        offer_children(p, w, floor, offer);
     }
-    return any_near;
+    if (static_cast<int>(w.half.size()) == H && w.half.front() > mine.load(std::memory_order_relaxed))
+      mine.store(w.half.front(), std::memory_order_relaxed);  // final: the selection filters with it
   }
 
   /// Serial set-up of the neighbour sweep: the predicted means F x_p (unless the last UKF bank left them),
@@ -607,30 +694,47 @@ class Rbpf {
     }
   }
 
-  /// Ascending sort of distinct child indices: through a bitmap over [0, M x per) when that is at most
-  /// kBitmapSortPerKept words per kept child (linear, no mispredicted comparisons), else std::sort.
+  /// Orders the kept records by child index (distinct) and writes sel_, sel_key_ and sel_prior_: through a
+  /// bitmap over [0, M x per) when that is at most kBitmapSortPerKept words per kept child (linear, no
+  /// mispredicted comparisons; a record's rank is the count of set bits before it), else std::sort.
   static constexpr std::size_t kBitmapSortPerKept = 64;
-  static int lowest_bit(std::uint64_t x) {  // x != 0
+  static int popcount(std::uint64_t x) {
 #if defined(__GNUC__) || defined(__clang__)
-    return __builtin_ctzll(x);
+    return __builtin_popcountll(x);
 #else
     int n = 0;
-    for (; (x & 1) == 0; x >>= 1) ++n;
+    for (; x != 0; x &= x - 1) ++n;
     return n;
 #endif
   }
-  void sort_indices(std::vector<int>& v) {
-    if (selbits_.empty() || selbits_.size() > kBitmapSortPerKept * std::max<std::size_t>(v.size(), 1)) {
-      std::sort(v.begin(), v.end());
+  void order_by_index(std::vector<ChildRecord>& v) {
+    const std::size_t n = v.size();
+    sel_.resize(n);
+    sel_key_.resize(n);
+    sel_prior_.resize(n);
+    auto put = [&](std::size_t pos, const ChildRecord& r) {
+      sel_[pos] = r.idx;
+      sel_key_[pos] = r.key;
+      sel_prior_[pos] = r.logw;
+    };
+    if (selbits_.empty() || selbits_.size() > kBitmapSortPerKept * std::max<std::size_t>(n, 1)) {
+      std::sort(v.begin(), v.end(), [](const ChildRecord& a, const ChildRecord& b) { return a.idx < b.idx; });
+      for (std::size_t i = 0; i < n; ++i) put(i, v[i]);
       return;
     }
-    for (const int i : v) selbits_[static_cast<std::size_t>(i) >> 6] |= std::uint64_t{1} << (i & 63);
-    v.clear();
+    for (const auto& r : v)
+      selbits_[static_cast<std::size_t>(r.idx) >> 6] |= std::uint64_t{1} << (r.idx & 63);
+    int before = 0;
     for (std::size_t wd = 0; wd < selbits_.size(); ++wd) {
-      for (std::uint64_t bits = selbits_[wd]; bits != 0; bits &= bits - 1)
-        v.push_back(static_cast<int>(wd * 64 + static_cast<std::size_t>(lowest_bit(bits))));
-      selbits_[wd] = 0;
+      selrank_[wd] = before;
+      before += popcount(selbits_[wd]);
     }
+    for (const auto& r : v) {
+      const std::size_t wd = static_cast<std::size_t>(r.idx) >> 6;
+      const std::uint64_t below = (std::uint64_t{1} << (r.idx & 63)) - 1;
+      put(static_cast<std::size_t>(selrank_[wd] + popcount(selbits_[wd] & below)), r);
+    }
+    for (const auto& r : v) selbits_[static_cast<std::size_t>(r.idx) >> 6] = 0;
   }
 
   /// Thread th's share of the sweep over byx_ (pairs in the same or adjacent cells only): positions
@@ -663,7 +767,7 @@ class Rbpf {
   /// Thread th's part of the merge: the children of parents with a neighbour whose key lies in the
   /// thread's key range, merged greedily (eqs. 29-30; merge_greedy's order, so the result is the serial
   /// merge's), then the survivors offered to `top`. Only changed weights are written back.
-  void merge_share(int th, int T, ThreadWork& w, TopSelector& top) {
+  void merge_share(int th, int T, ThreadWork& w, RecordTop& top) {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
     const auto per = static_cast<std::size_t>(per_parent_);
     const std::uint64_t chunk =
@@ -692,47 +796,14 @@ class Rbpf {
           return adj_[pa * M + pb] == stamp_;
         },
         w.mws);
-    for (std::size_t j = 0; j < w.sub.size(); ++j) {
-      const auto u = static_cast<std::size_t>(w.sub[j]);
-      if (w.sub_logw[j] != off_logw_[u]) off_logw_[u] = w.sub_logw[j];
-      top.offer(w.sub[j]);  // absorbed children (-inf) are refused
-    }
+    for (std::size_t j = 0; j < w.sub.size(); ++j)  // absorbed children (-inf) are refused
+      top.offer({w.sub_logw[j], w.sub[j], w.sub_key[j]});
   }
 
   void step_reordered(long k, double t, RbpfStepInfo& info) {
-    const int n = expand_reordered(k, info.merge_threshold);
-    info.offspring = n;
-    // The global top M lies in the union of the threads' top-M lists (merged children included); selected
-    // in linear time, ties by index (a strict order, so the set is unique). Zero-weight children (absorbed,
-    // or impossible) are never offered.
-    const auto M = static_cast<std::size_t>(opt_.num_particles);
-    info.merged = 0;
-    crec_.clear();
-    for (int th = 0; th < expand_threads_; ++th) {
-      const ThreadWork& w = *work_[static_cast<std::size_t>(th)];
-      info.merged += w.merged;
-      crec_.insert(crec_.end(), w.crec.begin(), w.crec.end());
-    }
-    const std::size_t keep = std::min(M, crec_.size());
-    if (keep < crec_.size())
-      std::nth_element(crec_.begin(), crec_.begin() + static_cast<std::ptrdiff_t>(keep - 1), crec_.end(),
-                       HeavierRecordFirst{});
-    // Group the survivors by parent so each parent's sigma points are computed once per thread: a
-    // child's index is parent * per + rank, so index order groups them.
-    sel_.clear();
-    for (std::size_t i = 0; i < keep; ++i) sel_.push_back(crec_[i].second);
-    sort_indices(sel_);
-    const int ns = static_cast<int>(sel_.size());
-    info.ukf_runs = ns;
-    // The bank also accumulates, per thread, the moments of eq. (27)-(28) around c = F x_hat_{t-1}
-    // (close to the new estimate, so the raw second moment loses no precision), the situation
-    // probabilities and the next step's predicted means: no serial pass over the particles after it.
-    centre_.noalias() = motion_.F() * est_;
-    run_bank(
-        ns, t, [&](int i) { return sel_[static_cast<std::size_t>(i)]; },
-        [&](int i) -> State& { return nmean_[static_cast<std::size_t>(i)]; },
-        [&](int i) -> Cov& { return ncov_[static_cast<std::size_t>(i)]; }, nlogw_.data(), info,
-        [&](int b, int e, ThreadWork& w) { accumulate_moments(b, e, w); });
+    info.offspring = count_ * per_parent_;
+    reordered_region(k, t, info);
+    const int ns = info.ukf_runs;
     // eq. (33): w_t = w_t|t-1 p(y_t | s_1:t, y_1:t-1), normalised (log-sum-exp over the threads' sums)
     double z = -kInf;
     for (int th = 0; th < bank_threads_; ++th)
@@ -775,7 +846,7 @@ class Rbpf {
     w.mprob.setZero();
     for (int i = b; i < e; ++i) {
       const auto u = static_cast<std::size_t>(i);
-      nkey_[u] = off_key_[static_cast<std::size_t>(sel_[u])];
+      nkey_[u] = sel_key_[u];
       xpred_[u].noalias() = motion_.F() * nmean_[u];
       w.mmax = std::max(w.mmax, nlogw_[u]);
     }
@@ -798,7 +869,11 @@ class Rbpf {
     info.ukf_runs = n;
     // Every child's UKF (IV.1), in parent order; eq. (25): add log p(y_t | s_1:t, y_1:t-1).
     run_bank(
-        n, t, [](int i) { return i; },
+        n, t,
+        [&](int i) {
+          const auto u = static_cast<std::size_t>(i);
+          return BankChild{off_parent_[u], off_logw_[u], off_key_[u]};
+        },
         [&](int i) -> State& { return off_mean_[static_cast<std::size_t>(i)]; },
         [&](int i) -> Cov& { return off_cov_[static_cast<std::size_t>(i)]; }, off_logw_.data(), info,
         [](int, int, ThreadWork&) {});
@@ -840,80 +915,99 @@ class Rbpf {
     count_ = ns;
   }
 
-  /// Runs the UKF of `n` children (child(i) -> index into off_*, in parent order) on the pool and adds the
-  /// log-likelihood to logw[i] (starting from off_logw_ of the child); failures get weight zero.
+  /// A child for the UKF bank: its parent, prior log weight and situation key.
+  struct BankChild {
+    int parent;
+    double prior;
+    std::uint64_t key;
+  };
+
+  /// Runs the UKF of `n` children (child(i) -> BankChild, in parent order) on the pool and writes prior +
+  /// log-likelihood to logw[i]; failures get weight zero.
   /// The children are split over the threads by cost (a parent's sigma-point preparation counts as one
   /// child update), and `after(b, e, work)` runs on each thread's range in the same parallel region.
   template <class Child, class MeanOut, class CovOut, class After>
   void run_bank(int n, double t, Child child, MeanOut mean_out, CovOut cov_out, double* logw,
                 RbpfStepInfo& info, After after) {
+    bank_split(n, active_threads(n), child);
+    pool_->parallel_for(bank_threads_,
+                        [&](int th, int, int) { bank_part(th, t, child, mean_out, cov_out, logw, after); });
+    bank_collect(info);
+  }
+
+  /// run_bank's serial set-up: splits the n children over T threads by cost (a parent's sigma-point
+  /// preparation counts as one child update) into split_, and clears the threads' outcomes.
+  template <class Child>
+  void bank_split(int n, int T, Child child) {
     std::fill(thread_fail_.begin(), thread_fail_.end(), 0);
     std::fill(thread_status_.begin(), thread_status_.end(), CholeskyStatus::kOk);
-    const int T = active_threads(n);
     bank_threads_ = T;
-    {
-      double total = 0.0;
-      int last = -1;
-      for (int i = 0; i < n; ++i) {
-        const int p = off_parent_[static_cast<std::size_t>(child(i))];
-        total += p != last ? 2.0 : 1.0;
-        last = p;
-      }
-      split_[0] = 0;
-      int th = 1;
-      double acc = 0.0;
-      last = -1;
-      for (int i = 0; i < n && th < T; ++i) {
-        const int p = off_parent_[static_cast<std::size_t>(child(i))];
-        acc += p != last ? 2.0 : 1.0;
-        last = p;
-        while (th < T && acc >= total * th / T) split_[static_cast<std::size_t>(th++)] = i + 1;
-      }
-      while (th <= T) split_[static_cast<std::size_t>(th++)] = n;
+    double total = 0.0;
+    int last = -1;
+    for (int i = 0; i < n; ++i) {
+      const int p = child(i).parent;
+      total += p != last ? 2.0 : 1.0;
+      last = p;
     }
-    pool_->parallel_for(T, [&](int th, int, int) {
-      const int b = split_[static_cast<std::size_t>(th)], e = split_[static_cast<std::size_t>(th) + 1];
-      auto& ker = *kernels_[static_cast<std::size_t>(th)];
-      VecXi& s = work_[static_cast<std::size_t>(th)]->s;
-      int last = -1;
-      CholeskyStatus pst = CholeskyStatus::kOk;
-      StepResult res;
-      // The thread's outcome stays in locals and is stored once: the threads' slots of thread_status_ /
-      // thread_fail_ share a cache line, and a store per update would bounce it between the cores.
-      CholeskyStatus ts = CholeskyStatus::kOk;
-      int fails = 0;
-      for (int i = b; i < e; ++i) {
-        const auto c = static_cast<std::size_t>(child(i));
-        const int p = off_parent_[c];
-        if (p != last) {
-          pst = ker.prepare(motion_, meas_, mean_[static_cast<std::size_t>(p)],
-                            cov_[static_cast<std::size_t>(p)], t);
-          last = p;
-        }
-        const double prior = off_logw_[c];
-        if (pst == CholeskyStatus::kFailed) {
-          logw[i] = -std::numeric_limits<double>::infinity();
-          mean_out(i) = ker.predicted_mean();
-          cov_out(i) = cov_[static_cast<std::size_t>(p)];
-          ++fails;
-          ts = CholeskyStatus::kFailed;
-          continue;
-        }
-        decode_situation(off_key_[c], nz_, s);
-        const bool ok = ker.finish(s, y_, mean_out(i), cov_out(i), res);
-        ts = nlosloc::detail::worse(ts, res.status);
-        if (!ok || !std::isfinite(res.log_likelihood)) {
-          logw[i] = -std::numeric_limits<double>::infinity();
-          ++fails;
-          ts = CholeskyStatus::kFailed;
-        } else {
-          logw[i] = prior + res.log_likelihood;  // eq. (25) / (33)
-        }
+    split_[0] = 0;
+    int th = 1;
+    double acc = 0.0;
+    last = -1;
+    for (int i = 0; i < n && th < T; ++i) {
+      const int p = child(i).parent;
+      acc += p != last ? 2.0 : 1.0;
+      last = p;
+      while (th < T && acc >= total * th / T) split_[static_cast<std::size_t>(th++)] = i + 1;
+    }
+    while (th <= T) split_[static_cast<std::size_t>(th++)] = n;
+  }
+
+  /// Thread th's part of the bank: children [split_[th], split_[th + 1]), then after(b, e, work).
+  template <class Child, class MeanOut, class CovOut, class After>
+  void bank_part(int th, double t, Child child, MeanOut mean_out, CovOut cov_out, double* logw, After after) {
+    const int b = split_[static_cast<std::size_t>(th)], e = split_[static_cast<std::size_t>(th) + 1];
+    auto& ker = *kernels_[static_cast<std::size_t>(th)];
+    VecXi& s = work_[static_cast<std::size_t>(th)]->s;
+    int last = -1;
+    CholeskyStatus pst = CholeskyStatus::kOk;
+    StepResult res;
+    // The thread's outcome stays in locals and is stored once: the threads' slots of thread_status_ /
+    // thread_fail_ share a cache line, and a store per update would bounce it between the cores.
+    CholeskyStatus ts = CholeskyStatus::kOk;
+    int fails = 0;
+    for (int i = b; i < e; ++i) {
+      const BankChild c = child(i);
+      const int p = c.parent;
+      if (p != last) {
+        pst = ker.prepare(motion_, meas_, mean_[static_cast<std::size_t>(p)],
+                          cov_[static_cast<std::size_t>(p)], t);
+        last = p;
       }
-      thread_fail_[static_cast<std::size_t>(th)] = fails;
-      thread_status_[static_cast<std::size_t>(th)] = ts;
-      after(b, e, *work_[static_cast<std::size_t>(th)]);
-    });
+      if (pst == CholeskyStatus::kFailed) {
+        logw[i] = -std::numeric_limits<double>::infinity();
+        mean_out(i) = ker.predicted_mean();
+        cov_out(i) = cov_[static_cast<std::size_t>(p)];
+        ++fails;
+        ts = CholeskyStatus::kFailed;
+        continue;
+      }
+      decode_situation(c.key, nz_, s);
+      const bool ok = ker.finish(s, y_, mean_out(i), cov_out(i), res);
+      ts = nlosloc::detail::worse(ts, res.status);
+      if (!ok || !std::isfinite(res.log_likelihood)) {
+        logw[i] = -std::numeric_limits<double>::infinity();
+        ++fails;
+        ts = CholeskyStatus::kFailed;
+      } else {
+        logw[i] = c.prior + res.log_likelihood;  // eq. (25) / (33)
+      }
+    }
+    thread_fail_[static_cast<std::size_t>(th)] = fails;
+    thread_status_[static_cast<std::size_t>(th)] = ts;
+    after(b, e, *work_[static_cast<std::size_t>(th)]);
+  }
+
+  void bank_collect(RbpfStepInfo& info) const {
     for (std::size_t th = 0; th < thread_fail_.size(); ++th) {
       info.failures += thread_fail_[th];
       info.status = nlosloc::detail::worse(info.status, thread_status_[th]);
@@ -950,7 +1044,12 @@ class Rbpf {
   situation::QualityModel quality_;
   RbpfOptions opt_;
   std::unique_ptr<ThreadPool> pool_;  // owned through a pointer: workers keep its address; Rbpf stays movable
-  std::unique_ptr<SpinBarrier> barrier_;  // inside expand_reordered's region (pointer: Rbpf stays movable)
+  std::unique_ptr<SpinBarrier> barrier_;  // inside reordered_region (pointer: Rbpf stays movable)
+  struct alignas(64) SharedCut {          // one cache line per thread
+    std::atomic<double> q{-std::numeric_limits<double>::infinity()};
+  };
+  std::unique_ptr<SharedCut[]> shared_cut_;  // enumerate_share's exchanged bounds (pointer: movable)
+  static constexpr int kShareEvery = 4;
   int B_ = 0, nz_ = 0, per_parent_ = 0, count_ = 0;
   bool first_ = true;
   double t_ = 0.0, pos_var_ = 0.0;
@@ -973,11 +1072,14 @@ class Rbpf {
   std::vector<std::pair<int, int>> byx_;  // (cell, p) by cell: the sweep order (prepare_sweep)
   std::vector<int> cell_, pcell_;         // prepare_sweep: cell starts (counting sort), cell of each parent
   std::uint64_t key_count_ = 0;           // N_z^B: the keys merge_share splits over the threads
-  std::vector<int> sel_;
-  std::vector<std::pair<double, int>> crec_;  // the threads' kept (log weight, child) records
-  std::vector<std::uint64_t> selbits_;        // sort_indices: one bit per child index
-  std::vector<double> best_;                  // best child log weight per parent
-  std::vector<double> known_;                 // three known child weights per parent
+  std::vector<int> sel_;                  // selected children (index p x per + j), by index
+  std::vector<std::uint64_t> sel_key_;    // reordered: their keys
+  std::vector<double> sel_prior_;         // reordered: their log weights before the update (eq. 32)
+  std::vector<ChildRecord> crec_;         // the threads' kept records
+  std::vector<std::uint64_t> selbits_;    // order_by_index: one bit per child index
+  std::vector<int> selrank_;              // order_by_index: set bits before each word
+  std::vector<double> best_;              // best child log weight per parent
+  std::vector<double> known_;             // three known child weights per parent
   static constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<MatX> apar_;  // per-parent factors A (B x N_z)
   MergeWorkspace mws_;      // classical RBPF's merge
@@ -988,6 +1090,7 @@ class Rbpf {
   std::vector<int> split_;                     // run_bank: first child of each thread (size threads + 1)
   State centre_;                               // c of accumulate_moments
   int expand_threads_ = 1, bank_threads_ = 1;  // threads of the last expansion / UKF bank
+  bool region_failed_ = false;                 // reordered_region: the selection threw (no bank)
   bool xpred_ready_ = false;                   // xpred_ holds F x of the current particles
   bool full_enum_ = false;                     // every situation vector is a child (N_z^B <= max_offspring)
   std::vector<std::uint64_t> pow_nz_;          // N_z^b
