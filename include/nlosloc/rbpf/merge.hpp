@@ -63,12 +63,13 @@ struct HeavierFirst {
   bool operator()(int a, int b) const { return heavier_first(logw[a], a, logw[b], b); }
 };
 /// A candidate child of the reordered RBPF by value: log weight, index (p x children per parent + j: the
-/// tie break of the strict order, and the parent) and situation key. The threads keep their candidates in
+/// tie break of the strict order), parent p and situation key. The threads keep their candidates in
 /// their own buffers, so selection and the UKF bank read them sequentially from the thread that made them
 /// instead of scattered entries of shared arrays last written by another core.
 struct ChildRecord {
   double logw;
   int idx;
+  int parent;
   std::uint64_t key;
 };
 /// heavier_first on records.
@@ -77,6 +78,74 @@ struct HeavierRecordFirst {
     return heavier_first(a.logw, a.idx, b.logw, b.idx);
   }
 };
+
+/// The value at 0-based position k of a[0..n) sorted in decreasing order (k < n; no NaN); a and tmp (size
+/// >= n) are scratch. Quickselect with a branch-free partition: the comparisons of a selection over a
+/// few hundred weights are unpredictable, and the mispredictions of std::nth_element cost more than the
+/// passes here.
+inline double kth_largest(double* a, double* tmp, int n, int k) {
+  int lo = 0, hi = n;
+  while (hi - lo > 16) {
+    const int mid = lo + (hi - lo) / 2;
+    double x = a[lo], y = a[mid], z = a[hi - 1];  // median of three
+    if (x > y) std::swap(x, y);
+    if (y > z) std::swap(y, z);
+    if (x > y) std::swap(x, y);
+    const double pivot = y;
+    // greater to the front of tmp[lo..), less to the back of tmp[..hi), equal counted
+    int g = lo, l = hi;
+    for (int i = lo; i < hi; ++i) {
+      const double v = a[i];
+      tmp[g] = v;
+      g += v > pivot ? 1 : 0;
+      tmp[l - 1] = v;
+      l -= v < pivot ? 1 : 0;
+    }
+    // tmp[lo, g): greater; tmp[l, hi): less; the rest equals pivot
+    if (k < g) {
+      std::copy(tmp + lo, tmp + g, a + lo);
+      hi = g;
+    } else if (k < l) {
+      return pivot;
+    } else {
+      std::copy(tmp + l, tmp + hi, a + l);
+      lo = l;
+    }
+  }
+  std::sort(a + lo, a + hi, std::greater<double>());
+  return a[k];
+}
+
+/// Keeps in v its M heaviest records (strict order heavier_first) in no particular order; w, tmp and ties
+/// are scratch (capacity >= v.size() for no allocation).
+inline void keep_heaviest(std::vector<ChildRecord>& v, std::size_t M, std::vector<double>& w,
+                          std::vector<double>& tmp, std::vector<ChildRecord>& ties) {
+  if (v.size() <= M) return;
+  const std::size_t n = v.size();
+  if (M == 0) {
+    v.clear();
+    return;
+  }
+  w.resize(n);
+  tmp.resize(n);
+  for (std::size_t i = 0; i < n; ++i) w[i] = v[i].logw;
+  const double cut = kth_largest(w.data(), tmp.data(), static_cast<int>(n), static_cast<int>(M) - 1);
+  // heavier than the cut: all kept (fewer than M); equal to it: the lowest indices fill the rest
+  std::size_t m = 0;
+  ties.clear();
+  for (std::size_t i = 0; i < n; ++i) {  // m <= i: only records already read are overwritten
+    if (v[i].logw > cut)
+      v[m++] = v[i];
+    else if (v[i].logw == cut)
+      ties.push_back(v[i]);
+  }
+  const std::size_t need = M - m;
+  if (ties.size() > need)
+    std::sort(ties.begin(), ties.end(),
+              [](const ChildRecord& a, const ChildRecord& b) { return a.idx < b.idx; });
+  for (std::size_t i = 0; i < need; ++i) v[m + i] = ties[i];
+  v.resize(M);
+}
 
 /// The M heaviest records offered so far (a heap of at most M records in `out`, lightest at the front;
 /// reserve M in `out` for no allocation). Records of zero weight are refused.

@@ -157,7 +157,7 @@ class Rbpf {
       w->T.resize(nz_, nz_);
       w->speeds.setZero(B_);
       w->s.setZero(B_);
-      w->crec.reserve(static_cast<std::size_t>(M));
+      w->crec.reserve(kCandidateSlack * static_cast<std::size_t>(M));
       w->half.reserve(static_cast<std::size_t>(M));
       w->psorted.reserve(static_cast<std::size_t>(M));
       w->mprob.setZero(B_, nz_);
@@ -179,11 +179,15 @@ class Rbpf {
     thread_status_.assign(static_cast<std::size_t>(pool_->size()), CholeskyStatus::kOk);
     Lq_.resize(B_, nz_);
     crec_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
+    sel_w_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
+    sel_tmp_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
+    sel_ties_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
     if ((cap + 63) / 64 <= kBitmapSortPerKept * static_cast<std::size_t>(M)) {
       selbits_.assign((cap + 63) / 64, 0);
       selrank_.assign((cap + 63) / 64, 0);
     }
     sel_key_.reserve(static_cast<std::size_t>(M));
+    sel_parent_.reserve(static_cast<std::size_t>(M));
     sel_prior_.reserve(static_cast<std::size_t>(M));
     prob_.resize(B_, nz_);
     y_.resize(meas.rows());
@@ -299,7 +303,7 @@ class Rbpf {
     MatX T;
     VecX speeds;
     VecXi s;
-    std::vector<ChildRecord> crec;  // this thread's top-M candidates (a RecordTop heap)
+    std::vector<ChildRecord> crec;  // this thread's candidates (keep_candidate; finish_candidates)
     std::vector<double> half;       // min-heap of the H heaviest offered weights (enumerate_share)
     std::vector<int> psorted;       // this thread's share of the parents, by decreasing best child
     std::vector<double> ktmp;       // scratch copy of known_
@@ -363,26 +367,26 @@ class Rbpf {
     });
   }
 
-  /// Calls offer(record) for the children of parent p at or above `floor` (bounded enumeration).
+  /// Calls offer(record) for the children of parent p at or above `cut` (read live; bounded enumeration).
   template <class Offer>
-  void offer_children(int p, ThreadWork& w, double floor, Offer& offer) {
+  void offer_children(int p, ThreadWork& w, const double& cut, Offer& offer) {
     const int u0 = p * per_parent_;
     for_each_child(p, w, [&](int j, std::uint64_t key, double logw) {
-      if (logw >= floor) offer(ChildRecord{logw, u0 + j, key});
+      if (logw >= cut) offer(ChildRecord{logw, u0 + j, p, key});
     });
   }
 
-  /// Offers to `top` the children of parent p whose weight can reach the current cut (the larger of
-  /// `floor` and top's M-th weight) without visiting the others (enumerate_above). Same children, keys and
+  /// Calls offer(record) for the children of parent p whose weight can reach `cut` (read live: offers
+  /// raise it) without visiting the others (enumerate_above). Same children, keys and
   /// indices p * per + key as the full enumeration, which it replaces when N_z^B is enumerated.
   template <class Offer>
-  void offer_pruned(int p, ThreadWork& w, const RecordTop& top, double floor, Offer& offer) {
+  void offer_pruned(int p, ThreadWork& w, const double& cut, Offer& offer) {
     const int u0 = p * per_parent_;
     enumerate_above(
         apar_[static_cast<std::size_t>(p)], logw_[static_cast<std::size_t>(p)], pow_nz_.data(), w.opt.data(),
-        [&] { return top.full() ? std::max(floor, top.threshold()) : floor; },
+        [&] { return cut; },
         [&](std::uint64_t key, double weight) {
-          offer(ChildRecord{weight, u0 + static_cast<int>(key), key});
+          offer(ChildRecord{weight, u0 + static_cast<int>(key), p, key});
         });
   }
 
@@ -437,7 +441,7 @@ class Rbpf {
       const int pb = static_cast<int>(static_cast<long long>(count_) * th / T);
       const int pe = static_cast<int>(static_cast<long long>(count_) * (th + 1) / T);
       w.merged = 0;
-      RecordTop top(M, w.crec);
+      w.crec.clear();
       shared_cut_[static_cast<std::size_t>(th)].q.store(-kInf, std::memory_order_relaxed);  // stale: invalid
       // A. neighbours (sweep share), factors and bounds of this thread's parents
       guarded([&] {
@@ -458,12 +462,13 @@ class Rbpf {
         publish_known_bound(th, T, w);
       });
       barrier_->arrive_and_wait(T);
-      guarded([&] { enumerate_share(th, T, w, top); });
+      guarded([&] { enumerate_share(th, T, w); });
       // C. merge of the neighbours' children, by key range
       if (merge && count_near() > 0) {
         barrier_->arrive_and_wait(T);
-        guarded([&] { merge_share(th, T, w, top); });
+        guarded([&] { merge_share(th, T, w); });
       }
+      guarded([&] { finish_candidates(T, w); });
       // Selection (serial, on the calling thread) and the split of the bank, then the bank on all threads.
       barrier_->arrive_and_wait(T);
       if (th == 0) {
@@ -477,7 +482,7 @@ class Rbpf {
               th, t,
               [&](int i) {
                 const auto u = static_cast<std::size_t>(i);
-                return BankChild{sel_[u] / per_parent_, sel_prior_[u], sel_key_[u]};
+                return BankChild{sel_parent_[u], sel_prior_[u], sel_key_[u]};
               },
               [&](int i) -> State& { return nmean_[static_cast<std::size_t>(i)]; },
               [&](int i) -> Cov& { return ncov_[static_cast<std::size_t>(i)]; }, nlogw_.data(),
@@ -488,6 +493,21 @@ class Rbpf {
     bank_collect(info);
   }
 
+  /// Prefetches the cache lines of [p, p + n): data another core wrote last costs a cross-core transfer
+  /// per line (about 0.1 us on the 2-core machine measured), and reading it in a loop pays them one after
+  /// the other; issued together, they overlap.
+  template <class V>
+  static void prefetch_range(const V* p, std::size_t n) {
+#if defined(__GNUC__) || defined(__clang__)
+    const char* b = reinterpret_cast<const char*>(p);
+    const char* e = reinterpret_cast<const char*>(p + n);
+    for (; b < e; b += 64) __builtin_prefetch(b);
+#else
+    (void)p;
+    (void)n;
+#endif
+  }
+
   /// The kept children: the global top M lies in the union of the threads' top-M lists (merged children
   /// included); selected in linear time, ties by index (a strict order, so the set is unique). Zero-weight
   /// children (absorbed, or impossible) are never offered. Then ordered by index (sel_*) and split for the
@@ -496,20 +516,18 @@ class Rbpf {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
     info.merged = 0;
     crec_.clear();
-    // Records below the final shared bound cannot be among the M heaviest (enumerate_share): dropped
-    // before the selection, which then sorts about M records instead of up to T x M.
-    const double floor = expand_threads_ > 1 ? lowered(shared_bound(expand_threads_)) : -kInf;
-    for (int th = 0; th < expand_threads_; ++th) {
-      const ThreadWork& w = *work_[static_cast<std::size_t>(th)];
-      info.merged += w.merged;
-      for (const auto& r : w.crec)
-        if (r.logw >= floor) crec_.push_back(r);
+    const int T = expand_threads_;
+    for (int th = 0; th < T; ++th) info.merged += work_[static_cast<std::size_t>(th)]->merged;
+    for (int th = 1; th < T; ++th) {
+      const auto& c = work_[static_cast<std::size_t>(th)]->crec;
+      prefetch_range(c.data(), c.size());
     }
-    const std::size_t keep = std::min(M, crec_.size());
-    if (keep < crec_.size())
-      std::nth_element(crec_.begin(), crec_.begin() + static_cast<std::ptrdiff_t>(keep - 1), crec_.end(),
-                       HeavierRecordFirst{});
-    crec_.resize(keep);
+    for (int th = 0; th < T; ++th) {
+      const auto& c = work_[static_cast<std::size_t>(th)]->crec;
+      crec_.insert(crec_.end(), c.begin(), c.end());
+    }
+    if (crec_.size() > M) keep_heaviest(crec_, M, sel_w_, sel_tmp_, sel_ties_);
+    const std::size_t keep = crec_.size();
     // Group the survivors by parent so each parent's sigma points are computed once per thread: a
     // child's index is parent * per + j, so index order groups them.
     order_by_index(crec_);
@@ -520,7 +538,7 @@ class Rbpf {
     // probabilities and the next step's predicted means: no serial pass over the particles after it.
     centre_.noalias() = motion_.F() * est_;
     bank_split(ns, std::min(expand_threads_, active_threads(ns)), [&](int i) {
-      return BankChild{sel_[static_cast<std::size_t>(i)] / per_parent_, 0.0, 0};
+      return BankChild{sel_parent_[static_cast<std::size_t>(i)], 0.0, 0};
     });
   }
 
@@ -608,50 +626,99 @@ class Rbpf {
     shared_cut_[static_cast<std::size_t>(th)].q.store(q, std::memory_order_relaxed);
   }
 
+  /// Appends a candidate to w.crec; when the buffer (kCandidateSlack x M, reserved) is full, keeps its M
+  /// heaviest: the thread's share of the global top M is among them.
+  static constexpr std::size_t kCandidateSlack = 4;
+  void keep_candidate(ThreadWork& w, const ChildRecord& r) const {
+    const auto M = static_cast<std::size_t>(opt_.num_particles);
+    if (w.crec.size() == kCandidateSlack * M) {
+      std::nth_element(w.crec.begin(), w.crec.begin() + static_cast<std::ptrdiff_t>(M - 1), w.crec.end(),
+                       HeavierRecordFirst{});
+      w.crec.resize(M);
+    }
+    w.crec.push_back(r);
+  }
+
+  /// End of the thread's expansion: drops the candidates below the shared bound (they cannot be among the
+  /// M heaviest) and keeps at most M. With the bound, the threads' lists together exceed M by a few.
+  void finish_candidates(int T, ThreadWork& w) const {
+    const auto M = static_cast<std::size_t>(opt_.num_particles);
+    const double floor = lowered(shared_bound(T));
+    w.crec.erase(
+        std::remove_if(w.crec.begin(), w.crec.end(), [&](const ChildRecord& r) { return r.logw < floor; }),
+        w.crec.end());
+    if (w.crec.size() > M) {
+      std::nth_element(w.crec.begin(), w.crec.begin() + static_cast<std::ptrdiff_t>(M - 1), w.crec.end(),
+                       HeavierRecordFirst{});
+      w.crec.resize(M);
+    }
+  }
+
   /// Thread th's part of the reordered enumeration, after every q_t is published: offers to `top` the
   /// children of its own parents without a neighbour (w.psorted: by decreasing best child, so the loop
   /// stops at the first parent whose best child cannot reach the cut) that can reach the cut, the larger
   /// of the shared bound and top's M-th weight. The thread's own parents, not a share of a global ranking:
   /// their factors are in this core's cache (reading another core's costs more than the imbalance).
-  void enumerate_share(int th, int T, ThreadWork& w, RecordTop& top) {
+  void enumerate_share(int th, int T, ThreadWork& w) {
     using nlosloc::rbpf::detail::may_reach;
-    const int H = share_size(T);
+    const auto H = static_cast<std::size_t>(share_size(T));
     w.half.clear();
-    double floor = lowered(shared_bound(T));
-    int since = 0;
+    // others: min of the other threads' q_u as last read (exchanged every kShareEvery parents: a read of
+    // another core's slot is a cache miss). A claim stays true once made, so an old read is still a
+    // bound; with this thread's live q (the H-th heaviest it has offered) it bounds the global M-th.
+    auto read_others = [&] {
+      double g = kInf;
+      for (int u = 0; u < T; ++u)
+        if (u != th)
+          g = std::min(g, shared_cut_[static_cast<std::size_t>(u)].q.load(std::memory_order_relaxed));
+      return g;
+    };
+    double others = read_others();
+    auto& mine = shared_cut_[static_cast<std::size_t>(th)].q;
+    const double known = mine.load(std::memory_order_relaxed);  // this thread's known-weight claim
+    double cut = -kInf;
+    auto update_cut = [&] {
+      const double q = w.half.size() == H ? std::max(known, w.half.front()) : known;
+      cut = lowered(std::min(q, others));
+    };
+    update_cut();
+    // Candidates at or above the cut are kept unsorted (finish_candidates sorts the few that stay); the
+    // heap of their H heaviest weights gives this thread's q (one thread: H = M, the running M-th).
     auto offer = [&](const ChildRecord& r) {
       if (!(r.logw > -kInf)) return;
-      top.offer(r);
-      if (T == 1) return;
-      // the H heaviest offered weights: q_th rises with them (exchanged every kShareEvery parents: each
-      // read of another core's slot is a cache miss)
-      if (static_cast<int>(w.half.size()) < H) {
+      keep_candidate(w, r);
+      if (w.half.size() < H) {
         w.half.push_back(r.logw);
         std::push_heap(w.half.begin(), w.half.end(), std::greater<double>());
       } else if (r.logw > w.half.front()) {
         std::pop_heap(w.half.begin(), w.half.end(), std::greater<double>());
         w.half.back() = r.logw;
         std::push_heap(w.half.begin(), w.half.end(), std::greater<double>());
+      } else {
+        return;
       }
+      update_cut();
     };
-    auto& mine = shared_cut_[static_cast<std::size_t>(th)].q;
+    auto publish = [&] {
+      if (w.half.size() == H && w.half.front() > mine.load(std::memory_order_relaxed))
+        mine.store(w.half.front(), std::memory_order_relaxed);
+    };
+    int since = 0;
     for (const int p : w.psorted) {
       if (T > 1 && ++since == kShareEvery) {
         since = 0;
-        if (static_cast<int>(w.half.size()) == H && w.half.front() > mine.load(std::memory_order_relaxed))
-          mine.store(w.half.front(), std::memory_order_relaxed);
-        floor = std::max(floor, lowered(shared_bound(T)));
+        publish();
+        others = read_others();
+        update_cut();
       }
-      const double cut = top.full() ? std::max(floor, top.threshold()) : floor;
       if (!may_reach(best_[static_cast<std::size_t>(p)], cut)) break;
       if (is_near(p)) continue;
       if (full_enum_)
-        offer_pruned(p, w, top, floor, offer);
+        offer_pruned(p, w, cut, offer);
       else
-        offer_children(p, w, floor, offer);
+        offer_children(p, w, cut, offer);
     }
-    if (static_cast<int>(w.half.size()) == H && w.half.front() > mine.load(std::memory_order_relaxed))
-      mine.store(w.half.front(), std::memory_order_relaxed);  // final: the selection filters with it
+    publish();  // final: the selection filters with it
   }
 
   /// Serial set-up of the neighbour sweep: the predicted means F x_p (unless the last UKF bank left them),
@@ -694,9 +761,9 @@ class Rbpf {
     }
   }
 
-  /// Orders the kept records by child index (distinct) and writes sel_, sel_key_ and sel_prior_: through a
-  /// bitmap over [0, M x per) when that is at most kBitmapSortPerKept words per kept child (linear, no
-  /// mispredicted comparisons; a record's rank is the count of set bits before it), else std::sort.
+  /// Orders the kept records by child index (distinct) and writes sel_parent_, sel_key_ and sel_prior_:
+  /// through a bitmap over [0, M x per) when that is at most kBitmapSortPerKept words per kept child (linear,
+  /// no mispredicted comparisons; a record's rank is the count of set bits before it), else std::sort.
   static constexpr std::size_t kBitmapSortPerKept = 64;
   static int popcount(std::uint64_t x) {
 #if defined(__GNUC__) || defined(__clang__)
@@ -709,11 +776,11 @@ class Rbpf {
   }
   void order_by_index(std::vector<ChildRecord>& v) {
     const std::size_t n = v.size();
-    sel_.resize(n);
+    sel_parent_.resize(n);
     sel_key_.resize(n);
     sel_prior_.resize(n);
     auto put = [&](std::size_t pos, const ChildRecord& r) {
-      sel_[pos] = r.idx;
+      sel_parent_[pos] = r.parent;
       sel_key_[pos] = r.key;
       sel_prior_[pos] = r.logw;
     };
@@ -767,7 +834,7 @@ class Rbpf {
   /// Thread th's part of the merge: the children of parents with a neighbour whose key lies in the
   /// thread's key range, merged greedily (eqs. 29-30; merge_greedy's order, so the result is the serial
   /// merge's), then the survivors offered to `top`. Only changed weights are written back.
-  void merge_share(int th, int T, ThreadWork& w, RecordTop& top) {
+  void merge_share(int th, int T, ThreadWork& w) {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
     const auto per = static_cast<std::size_t>(per_parent_);
     const std::uint64_t chunk =
@@ -797,7 +864,8 @@ class Rbpf {
         },
         w.mws);
     for (std::size_t j = 0; j < w.sub.size(); ++j)  // absorbed children (-inf) are refused
-      top.offer({w.sub_logw[j], w.sub[j], w.sub_key[j]});
+      if (w.sub_logw[j] > -kInf)
+        keep_candidate(w, {w.sub_logw[j], w.sub[j], w.sub[j] / per_parent_, w.sub_key[j]});
   }
 
   void step_reordered(long k, double t, RbpfStepInfo& info) {
@@ -1072,14 +1140,17 @@ class Rbpf {
   std::vector<std::pair<int, int>> byx_;  // (cell, p) by cell: the sweep order (prepare_sweep)
   std::vector<int> cell_, pcell_;         // prepare_sweep: cell starts (counting sort), cell of each parent
   std::uint64_t key_count_ = 0;           // N_z^B: the keys merge_share splits over the threads
-  std::vector<int> sel_;                  // selected children (index p x per + j), by index
+  std::vector<int> sel_;                  // classical: selected children (indices into off_*)
+  std::vector<int> sel_parent_;           // reordered: the kept children's parents, by child index
   std::vector<std::uint64_t> sel_key_;    // reordered: their keys
   std::vector<double> sel_prior_;         // reordered: their log weights before the update (eq. 32)
   std::vector<ChildRecord> crec_;         // the threads' kept records
-  std::vector<std::uint64_t> selbits_;    // order_by_index: one bit per child index
-  std::vector<int> selrank_;              // order_by_index: set bits before each word
-  std::vector<double> best_;              // best child log weight per parent
-  std::vector<double> known_;             // three known child weights per parent
+  std::vector<double> sel_w_, sel_tmp_;   // keep_heaviest scratch (select_kept)
+  std::vector<ChildRecord> sel_ties_;
+  std::vector<std::uint64_t> selbits_;  // order_by_index: one bit per child index
+  std::vector<int> selrank_;            // order_by_index: set bits before each word
+  std::vector<double> best_;            // best child log weight per parent
+  std::vector<double> known_;           // three known child weights per parent
   static constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<MatX> apar_;  // per-parent factors A (B x N_z)
   MergeWorkspace mws_;      // classical RBPF's merge
