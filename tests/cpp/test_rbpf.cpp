@@ -109,6 +109,40 @@ TEST_CASE("merge visiting order: the radix grouping equals the comparison sort",
   }
 }
 
+TEST_CASE("selection of the M heaviest records equals a full sort, ties by index", "[rbpf][merge]") {
+  Rng rng(11);
+  std::vector<double> w, tmp;
+  std::vector<ChildRecord> v, ties, ref;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int n = 1 + static_cast<int>(rng.uniform() * 300);
+    const int M = 1 + static_cast<int>(rng.uniform() * (n + 10));
+    const bool tied = trial % 3 == 0;  // few distinct weights: many ties at the cut
+    v.clear();
+    for (int i = 0; i < n; ++i) {
+      const double x = tied ? std::floor(rng.uniform() * 5.0) : std::log(rng.uniform());
+      v.push_back({x, (i * 7919) % 100003, i, static_cast<std::uint64_t>(i)});
+    }
+    ref = v;
+    std::sort(ref.begin(), ref.end(), HeavierRecordFirst{});
+    ref.resize(std::min<std::size_t>(ref.size(), static_cast<std::size_t>(M)));
+    // kth_largest: the value at each rank of the decreasing order
+    w.resize(v.size());
+    tmp.resize(v.size());
+    const int k = static_cast<int>(rng.uniform() * n);
+    for (int i = 0; i < n; ++i) w[static_cast<std::size_t>(i)] = v[static_cast<std::size_t>(i)].logw;
+    std::vector<double> sorted(w);
+    std::sort(sorted.begin(), sorted.end(), std::greater<double>());
+    CHECK(kth_largest(w.data(), tmp.data(), n, k) == sorted[static_cast<std::size_t>(k)]);
+    keep_heaviest(v, static_cast<std::size_t>(M), w, tmp, ties);
+    std::sort(v.begin(), v.end(), HeavierRecordFirst{});
+    REQUIRE(v.size() == ref.size());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      CHECK(v[i].idx == ref[i].idx);
+      CHECK(v[i].logw == ref[i].logw);
+    }
+  }
+}
+
 TEST_CASE("offspring counts and the bounded enumeration", "[rbpf][offspring]") {
   CHECK(situation_count(2, 6) == 64);
   CHECK(situation_count(3, 4) == 81);
@@ -535,15 +569,47 @@ TEST_CASE("RBPF on an H2-like track: 1 and 2 threads agree, estimate tracks", "[
     Rbpf<ConstantVelocityClock2> f1(h.motion, h.st, h.proc, h.q, h.g, opt);
     opt.threads = 2;
     Rbpf<ConstantVelocityClock2> f2(h.motion, h.st, h.proc, h.q, h.g, opt);
+    opt.threads = 3;  // the shared cut of the reordered enumeration takes the minimum over the others
+    Rbpf<ConstantVelocityClock2> f3(h.motion, h.st, h.proc, h.q, h.g, opt);
     long merged1 = 0, merged2 = 0, same_steps = 0;
     for (std::size_t k = 0; k < y.size(); ++k) {
       const auto i1 = f1.step(y[k], o[k]);
       const auto i2 = f2.step(y[k], o[k]);
+      const auto i3 = f3.step(y[k], o[k]);
       CHECK(i1.failures == 0);
       merged1 += i1.merged;
       merged2 += i2.merged;
-      same_steps += i1.merged == i2.merged && f1.num_particles() == f2.num_particles() ? 1 : 0;
+      same_steps += i1.merged == i2.merged && i1.merged == i3.merged &&
+                            f1.num_particles() == f2.num_particles() &&
+                            f1.num_particles() == f3.num_particles()
+                        ? 1
+                        : 0;
     }
+    // The same particles (situations and weights) whatever the thread count: the global top M is kept.
+    auto particles = [](const Rbpf<ConstantVelocityClock2>& f) {
+      std::vector<std::pair<long, double>> v;
+      for (int i = 0; i < f.num_particles(); ++i) {
+        long key = 0;
+        const VecXi z = f.particle_situation(i);
+        for (int b = static_cast<int>(z.size()) - 1; b >= 0; --b) key = key * 2 + z(b);
+        v.push_back({key, f.log_weight(i)});
+      }
+      std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+      return v;
+    };
+    const auto p1 = particles(f1);
+    for (const auto* g : {&f2, &f3}) {
+      const auto p2 = particles(*g);
+      REQUIRE(p1.size() == p2.size());
+      std::multiset<long> k1, k2;
+      for (std::size_t i = 0; i < p1.size(); ++i) {
+        k1.insert(p1[i].first);
+        k2.insert(p2[i].first);
+        CHECK(std::abs(p1[i].second - p2[i].second) < 1e-9);
+      }
+      CHECK(k1 == k2);
+    }
+    CHECK((f1.estimate() - f3.estimate()).cwiseAbs().maxCoeff() < 1e-9);
     // The 2-thread merge (split by key over the threads) absorbs the same children as the serial one.
     CHECK(merged1 > 0);
     CHECK(merged1 == merged2);

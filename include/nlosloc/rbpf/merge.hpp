@@ -147,32 +147,6 @@ inline void keep_heaviest(std::vector<ChildRecord>& v, std::size_t M, std::vecto
   v.resize(M);
 }
 
-/// The M heaviest records offered so far (a heap of at most M records in `out`, lightest at the front;
-/// reserve M in `out` for no allocation). Records of zero weight are refused.
-class RecordTop {
- public:
-  RecordTop(int M, std::vector<ChildRecord>& out) : M_(M), out_(out) { out_.clear(); }
-  bool full() const { return static_cast<int>(out_.size()) >= M_; }
-  /// Log weight of the lightest kept record (valid when full()).
-  double threshold() const { return out_.front().logw; }
-  void offer(const ChildRecord& r) {
-    if (!(r.logw > -std::numeric_limits<double>::infinity()) || M_ <= 0) return;
-    const HeavierRecordFirst cmp;
-    if (!full()) {
-      out_.push_back(r);
-      std::push_heap(out_.begin(), out_.end(), cmp);
-    } else if (cmp(r, out_.front())) {
-      std::pop_heap(out_.begin(), out_.end(), cmp);
-      out_.back() = r;
-      std::push_heap(out_.begin(), out_.end(), cmp);
-    }
-  }
-
- private:
-  int M_;
-  std::vector<ChildRecord>& out_;
-};
-
 namespace detail {
 /// ws.order = 0..n-1 grouped by key (ascending), heaviest first within a group, ties by index: the order
 /// the greedy merge visits; ws.sorted_keys[i] = keys[ws.order[i]]. Small n: one comparison sort. Large n (the

@@ -402,19 +402,19 @@ class Rbpf {
     return count_ * per_parent_;
   }
 
-  /// Reordered order, in one parallel region of three phases split by two barriers (the children of a
-  /// parent with a neighbour within d_min must all exist before the merge, and every parent's bounds
-  /// before the cut):
+  /// The reordered step (Table V) in one parallel region, phases split by spin barriers (one hand-off
+  /// per step; the calling thread is thread 0):
   ///  A. each thread sweeps its share of the parent pairs for neighbours (eq. 29 on the predicted means:
   ///     children keep their parent's kinetic belief, so two children are close exactly when they have the
   ///     same situation and their parents are close), then computes the factors, best child and three known
   ///     child weights of a contiguous share of the parents;
-  ///  B. writes every child of its parents with a neighbour, then enumerates the M heaviest children of the
-  ///     other parents into its top-M (enumerate_share);
+  ///  B. writes every child of its parents with a neighbour and publishes its first shared bound
+  ///     (publish_known_bound); then enumerates the children of its other parents that can reach the
+  ///     shared cut into its candidate buffer (enumerate_share);
   ///  C. merges (eqs. 29-30) the neighbours' children whose key falls in its key range (children with
-  ///     different keys never merge) and offers the survivors to the same top-M.
-  /// The union of the threads' top-M lists then holds the global top M. Every phase runs on all threads,
-  /// so nothing but the final selection of at most T x M candidates is serial.
+  ///     different keys never merge) and keeps the survivors; drops its candidates below the final bound;
+  ///  D. thread 0 selects the M heaviest of the threads' candidates and splits the bank (select_kept);
+  ///  E. every thread runs its share of the UKF bank and of the moments of eqs. (27)-(28).
   void reordered_region(long k, double t, RbpfStepInfo& info) {
     const double d_min = info.merge_threshold;
     const auto M = static_cast<int>(opt_.num_particles);
