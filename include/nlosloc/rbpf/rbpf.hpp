@@ -493,21 +493,6 @@ class Rbpf {
     bank_collect(info);
   }
 
-  /// Prefetches the cache lines of [p, p + n): data another core wrote last costs a cross-core transfer
-  /// per line (about 0.1 us on the 2-core machine measured), and reading it in a loop pays them one after
-  /// the other; issued together, they overlap.
-  template <class V>
-  static void prefetch_range(const V* p, std::size_t n) {
-#if defined(__GNUC__) || defined(__clang__)
-    const char* b = reinterpret_cast<const char*>(p);
-    const char* e = reinterpret_cast<const char*>(p + n);
-    for (; b < e; b += 64) __builtin_prefetch(b);
-#else
-    (void)p;
-    (void)n;
-#endif
-  }
-
   /// The kept children: the global top M lies in the union of the threads' top-M lists (merged children
   /// included); selected in linear time, ties by index (a strict order, so the set is unique). Zero-weight
   /// children (absorbed, or impossible) are never offered. Then ordered by index (sel_*) and split for the
@@ -518,10 +503,6 @@ class Rbpf {
     crec_.clear();
     const int T = expand_threads_;
     for (int th = 0; th < T; ++th) info.merged += work_[static_cast<std::size_t>(th)]->merged;
-    for (int th = 1; th < T; ++th) {
-      const auto& c = work_[static_cast<std::size_t>(th)]->crec;
-      prefetch_range(c.data(), c.size());
-    }
     for (int th = 0; th < T; ++th) {
       const auto& c = work_[static_cast<std::size_t>(th)]->crec;
       crec_.insert(crec_.end(), c.begin(), c.end());
