@@ -159,6 +159,9 @@ class Rbpf {
       w->s.setZero(B_);
       w->crec.reserve(kCandidateSlack * static_cast<std::size_t>(M));
       w->half.reserve(static_cast<std::size_t>(M));
+      w->sel_w.reserve(kCandidateSlack * static_cast<std::size_t>(M));
+      w->sel_tmp.reserve(kCandidateSlack * static_cast<std::size_t>(M));
+      w->sel_ties.reserve(kCandidateSlack * static_cast<std::size_t>(M));
       w->psorted.reserve(static_cast<std::size_t>(M));
       w->mprob.setZero(B_, nz_);
       w->opt.assign(static_cast<std::size_t>(B_) * static_cast<std::size_t>(nz_), 0);
@@ -298,17 +301,26 @@ class Rbpf {
   static constexpr int kMinParallel = 64;
   int active_threads(int n) const { return n >= kMinParallel ? pool_->size() : 1; }
 
+  /// A child for the UKF bank: its parent, prior log weight and situation key.
+  struct BankChild {
+    int parent;
+    double prior;
+    std::uint64_t key;
+  };
+
   /// Per-thread scratch of the expansion and the UKF bank.
   struct ThreadWork {
     MatX T;
     VecX speeds;
     VecXi s;
-    std::vector<ChildRecord> crec;  // this thread's candidates (keep_candidate; finish_candidates)
-    std::vector<double> half;       // min-heap of the H heaviest offered weights (enumerate_share)
-    std::vector<int> psorted;       // this thread's share of the parents, by decreasing best child
-    std::vector<double> ktmp;       // scratch copy of known_
-    std::vector<int> opt;           // B x N_z: each anchor's conditions by decreasing factor (offer_pruned)
-    std::vector<char> near;         // near[p] = 1 when this thread's sweep found a neighbour of parent p
+    std::vector<ChildRecord> crec;       // this thread's candidates (keep_candidate; finish_candidates)
+    std::vector<double> half;            // min-heap of the H heaviest offered weights (enumerate_share)
+    std::vector<double> sel_w, sel_tmp;  // keep_heaviest scratch of crec
+    std::vector<ChildRecord> sel_ties;
+    std::vector<int> psorted;  // this thread's share of the parents, by decreasing best child
+    std::vector<double> ktmp;  // scratch copy of known_
+    std::vector<int> opt;      // B x N_z: each anchor's conditions by decreasing factor (offer_pruned)
+    std::vector<char> near;    // near[p] = 1 when this thread's sweep found a neighbour of parent p
     // merge_share: this thread's children of parents with a neighbour, their keys and log weights
     std::vector<int> sub;
     std::vector<std::uint64_t> sub_key;
@@ -479,11 +491,7 @@ class Rbpf {
       if (!region_failed_ && th < bank_threads_)
         guarded([&] {
           bank_part(
-              th, t,
-              [&](int i) {
-                const auto u = static_cast<std::size_t>(i);
-                return BankChild{sel_parent_[u], sel_prior_[u], sel_key_[u]};
-              },
+              th, t, [&](int i) { return kept_child(i); },
               [&](int i) -> State& { return nmean_[static_cast<std::size_t>(i)]; },
               [&](int i) -> Cov& { return ncov_[static_cast<std::size_t>(i)]; }, nlogw_.data(),
               [&](int b, int e, ThreadWork& tw) { accumulate_moments(b, e, tw); });
@@ -501,26 +509,28 @@ class Rbpf {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
     info.merged = 0;
     crec_.clear();
-    const int T = expand_threads_;
-    for (int th = 0; th < T; ++th) info.merged += work_[static_cast<std::size_t>(th)]->merged;
-    for (int th = 0; th < T; ++th) {
-      const auto& c = work_[static_cast<std::size_t>(th)]->crec;
-      crec_.insert(crec_.end(), c.begin(), c.end());
+    for (int th = 0; th < expand_threads_; ++th) {
+      const ThreadWork& w = *work_[static_cast<std::size_t>(th)];
+      info.merged += w.merged;
+      crec_.insert(crec_.end(), w.crec.begin(), w.crec.end());
     }
-    if (crec_.size() > M) keep_heaviest(crec_, M, sel_w_, sel_tmp_, sel_ties_);
-    const std::size_t keep = crec_.size();
+    keep_heaviest(crec_, M, sel_w_, sel_tmp_, sel_ties_);
     // Group the survivors by parent so each parent's sigma points are computed once per thread: a
     // child's index is parent * per + j, so index order groups them.
     order_by_index(crec_);
-    const int ns = static_cast<int>(keep);
+    const int ns = static_cast<int>(crec_.size());
     info.ukf_runs = ns;
     // The bank also accumulates, per thread, the moments of eq. (27)-(28) around c = F x_hat_{t-1}
     // (close to the new estimate, so the raw second moment loses no precision), the situation
     // probabilities and the next step's predicted means: no serial pass over the particles after it.
     centre_.noalias() = motion_.F() * est_;
-    bank_split(ns, std::min(expand_threads_, active_threads(ns)), [&](int i) {
-      return BankChild{sel_parent_[static_cast<std::size_t>(i)], 0.0, 0};
-    });
+    bank_split(ns, std::min(expand_threads_, active_threads(ns)), [&](int i) { return kept_child(i); });
+  }
+
+  /// The i-th kept child (select_kept's order) for the UKF bank.
+  BankChild kept_child(int i) const {
+    const auto u = static_cast<std::size_t>(i);
+    return BankChild{sel_parent_[u], sel_prior_[u], sel_key_[u]};
   }
 
   /// True when parent p has a neighbour within d_min (set by any thread's sweep this step).
@@ -612,11 +622,7 @@ class Rbpf {
   static constexpr std::size_t kCandidateSlack = 4;
   void keep_candidate(ThreadWork& w, const ChildRecord& r) const {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
-    if (w.crec.size() == kCandidateSlack * M) {
-      std::nth_element(w.crec.begin(), w.crec.begin() + static_cast<std::ptrdiff_t>(M - 1), w.crec.end(),
-                       HeavierRecordFirst{});
-      w.crec.resize(M);
-    }
+    if (w.crec.size() == kCandidateSlack * M) keep_heaviest(w.crec, M, w.sel_w, w.sel_tmp, w.sel_ties);
     w.crec.push_back(r);
   }
 
@@ -628,18 +634,14 @@ class Rbpf {
     w.crec.erase(
         std::remove_if(w.crec.begin(), w.crec.end(), [&](const ChildRecord& r) { return r.logw < floor; }),
         w.crec.end());
-    if (w.crec.size() > M) {
-      std::nth_element(w.crec.begin(), w.crec.begin() + static_cast<std::ptrdiff_t>(M - 1), w.crec.end(),
-                       HeavierRecordFirst{});
-      w.crec.resize(M);
-    }
+    keep_heaviest(w.crec, M, w.sel_w, w.sel_tmp, w.sel_ties);
   }
 
-  /// Thread th's part of the reordered enumeration, after every q_t is published: offers to `top` the
-  /// children of its own parents without a neighbour (w.psorted: by decreasing best child, so the loop
-  /// stops at the first parent whose best child cannot reach the cut) that can reach the cut, the larger
-  /// of the shared bound and top's M-th weight. The thread's own parents, not a share of a global ranking:
-  /// their factors are in this core's cache (reading another core's costs more than the imbalance).
+  /// Thread th's part of the reordered enumeration, after every q_t is published: keeps as candidates the
+  /// children of its own parents without a neighbour that can reach the cut (the shared bound, below)
+  /// (w.psorted: by decreasing best child, so the loop stops at the first parent whose best child cannot
+  /// reach it). The thread's own parents, not a share of a global ranking: their factors are in this core's
+  /// cache (reading another core's costs more than the imbalance).
   void enumerate_share(int th, int T, ThreadWork& w) {
     using nlosloc::rbpf::detail::may_reach;
     const auto H = static_cast<std::size_t>(share_size(T));
@@ -663,8 +665,8 @@ class Rbpf {
       cut = lowered(std::min(q, others));
     };
     update_cut();
-    // Candidates at or above the cut are kept unsorted (finish_candidates sorts the few that stay); the
-    // heap of their H heaviest weights gives this thread's q (one thread: H = M, the running M-th).
+    // Candidates at or above the cut are kept unsorted (finish_candidates trims them); the heap of their H
+    // heaviest weights gives this thread's q (one thread: H = M, the running M-th).
     auto offer = [&](const ChildRecord& r) {
       if (!(r.logw > -kInf)) return;
       keep_candidate(w, r);
@@ -814,7 +816,7 @@ class Rbpf {
 
   /// Thread th's part of the merge: the children of parents with a neighbour whose key lies in the
   /// thread's key range, merged greedily (eqs. 29-30; merge_greedy's order, so the result is the serial
-  /// merge's), then the survivors offered to `top`. Only changed weights are written back.
+  /// merge's), then the survivors kept as candidates (keep_candidate).
   void merge_share(int th, int T, ThreadWork& w) {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
     const auto per = static_cast<std::size_t>(per_parent_);
@@ -963,13 +965,6 @@ class Rbpf {
     }
     count_ = ns;
   }
-
-  /// A child for the UKF bank: its parent, prior log weight and situation key.
-  struct BankChild {
-    int parent;
-    double prior;
-    std::uint64_t key;
-  };
 
   /// Runs the UKF of `n` children (child(i) -> BankChild, in parent order) on the pool and writes prior +
   /// log-likelihood to logw[i]; failures get weight zero.
