@@ -3,10 +3,12 @@
 // thread pool, systematic resampling (unbiased) and the joint PF.
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <functional>
 #include <map>
 #include <numeric>
 #include <set>
+#include <thread>
 
 #include "nlosloc/filters/ukf.hpp"
 #include "nlosloc/rbpf/pf.hpp"
@@ -636,6 +638,39 @@ TEST_CASE("thread pool runs every index once and forwards exceptions", "[rbpf]")
                                       if (b > 0) throw std::runtime_error("boom");
                                     }),
                   std::runtime_error);
+}
+
+TEST_CASE("thread pool hands off between spinning and sleeping threads", "[rbpf]") {
+  // Idle gaps and chunk times from 0 to 2 ms straddle the spin (about 0.5 ms here) and the blocking waits,
+  // so the workers and the caller take every path: spinning, asleep on the condition variables, and going
+  // to sleep just as the other side arrives. A lost wake-up would hang the test.
+  ThreadPool pool(3);
+  std::vector<int> hit(3, 0);
+  for (int rep = 0; rep < 300; ++rep) {
+    const auto gap = std::chrono::microseconds((rep * 37) % 2000);
+    if (rep % 3 == 0) std::this_thread::sleep_for(gap);  // the workers may fall asleep
+    pool.parallel_for(3, [&](int b, int, int t) {
+      if (rep % 3 == 1 && t > 0) std::this_thread::sleep_for(gap);   // the caller may fall asleep
+      if (rep % 3 == 2 && t == 0) std::this_thread::sleep_for(gap);  // the workers wait for the next job
+      ++hit[static_cast<std::size_t>(b)];
+    });
+  }
+  CHECK(hit == std::vector<int>{300, 300, 300});
+  // An exception from a worker reaches a caller that went to sleep waiting for it.
+  CHECK_THROWS_WITH(pool.parallel_for(3,
+                                      [](int b, int, int) {
+                                        if (b == 2) {
+                                          std::this_thread::sleep_for(std::chrono::milliseconds(20));
+                                          throw std::runtime_error("late boom");
+                                        }
+                                      }),
+                    "late boom");
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  int after = 0;
+  pool.parallel_for(3, [&](int, int, int t) {
+    if (t == 0) after = 1;
+  });
+  CHECK(after == 1);
 }
 
 TEST_CASE("systematic resampling is unbiased", "[rbpf][pf]") {
