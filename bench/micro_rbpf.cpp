@@ -102,6 +102,35 @@ BENCHMARK(BM_Rbpf)
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 
+/// Hand-off cost of the pool: an empty parallel_for over `threads` (the fixed cost of one RBPF/PF region
+/// per step) and one SpinBarrier round inside a region (the cost of each phase boundary in the reordered
+/// RBPF's region). items = hand-offs or barrier rounds.
+void BM_PoolParallelFor(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  rbpf::ThreadPool pool(threads);
+  int sink = 0;
+  for (auto _ : state) {
+    pool.parallel_for(threads, [&](int, int, int t) {
+      if (t == 0) ++sink;
+    });
+  }
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()));
+}
+BENCHMARK(BM_PoolParallelFor)->ArgNames({"threads"})->Arg(2)->Unit(benchmark::kNanosecond)->UseRealTime();
+
+void BM_SpinBarrier(benchmark::State& state) {
+  constexpr int kRounds = 1000;
+  rbpf::ThreadPool pool(2);
+  rbpf::SpinBarrier barrier;
+  for (auto _ : state)
+    pool.parallel_for(2, [&](int, int, int) {
+      for (int r = 0; r < kRounds; ++r) barrier.arrive_and_wait(2);
+    });
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * kRounds);
+}
+BENCHMARK(BM_SpinBarrier)->Unit(benchmark::kMicrosecond)->UseRealTime();
+
 /// args: particles, threads, resampling (0 systematic, 1 merge-select)
 void BM_Pf(benchmark::State& state) {
   const H2Model& h = model();

@@ -8,9 +8,9 @@
 /// condition-variable wake-up (tens of microseconds) would eat the gain of a second core. Workers and
 /// the caller therefore poll atomics for a short while (kSpin polls: pause hints, then yields) before
 /// blocking on the condition variables; an idle pool still sleeps. The mutex and the condition variables
-/// are touched only when a thread is asleep: a hand-off between polling threads moves two cache lines
-/// (the generation and the pending count), about 0.3 us on a 2-vCPU KVM machine where the mutex version
-/// cost about 1 us (bench note in the commit).
+/// are touched only when a thread is asleep: an empty 2-thread parallel_for takes about 0.62 us on a 2-vCPU
+/// KVM machine, against 0.84 us when every hand-off locked the mutex (BM_PoolParallelFor; a SpinBarrier
+/// round, BM_SpinBarrier, about 0.23 us).
 #include <atomic>
 #include <condition_variable>
 #include <exception>
