@@ -746,15 +746,14 @@ class Rbpf {
     for (std::size_t i = 0; i < byx_.size(); ++i) sxp_[i] = xpred_[static_cast<std::size_t>(byx_[i].second)];
     // Shares of the sweep rows with about equal numbers of pair tests: row i tests the rows after it to the
     // end of the next cell (cell_[c] is now the end of cell c), +2 for its own visit and its last test.
-    long long total = 0;
-    for (int i = 0; i < count_; ++i) total += sweep_row_cost(i, ncell);
-    sweep_split_.assign(static_cast<std::size_t>(T) + 1, count_);
-    sweep_split_[0] = 0;
-    long long acc = 0;
-    for (int i = 0, t = 1; i < count_ && t < T; ++i) {
-      acc += sweep_row_cost(i, ncell);
-      for (; t < T && acc * T >= total * t; ++t) sweep_split_[static_cast<std::size_t>(t)] = i + 1;
-    }
+    sweep_split_.resize(static_cast<std::size_t>(T) + 1);
+    split_by_cost(
+        count_, T,
+        [&](int i) {
+          const int c = std::min(byx_[static_cast<std::size_t>(i)].first + 1, ncell - 1);
+          return static_cast<double>(cell_[static_cast<std::size_t>(c)] - i + 1);
+        },
+        sweep_split_.data());
     if (++stamp_ == 0) {  // wrapped: entries of 65536 steps ago would read as this step's
       std::fill(adj_.begin(), adj_.end(), std::uint16_t{0});
       stamp_ = 1;
@@ -804,13 +803,9 @@ class Rbpf {
     for (const auto& r : v) selbits_[static_cast<std::size_t>(r.idx) >> 6] = 0;
   }
 
-  /// Thread th's share of the sweep over byx_ (pairs in the same or adjacent cells only): rows [i0, i1)
-  /// holding about 1/T of the pairs to test (row i tests the rows after it up to the end of the next
-  /// cell). Marks w.near of both parents and adj_ = stamp_ for each pair within d_min (eq. 29).
-  int sweep_row_cost(int i, int ncell) const {
-    const int c = std::min(byx_[static_cast<std::size_t>(i)].first + 1, ncell - 1);
-    return cell_[static_cast<std::size_t>(c)] - i + 1;
-  }
+  /// Thread th's share of the sweep over byx_ (pairs in the same or adjacent cells only): rows
+  /// [sweep_split_[th], sweep_split_[th + 1]), about 1/T of the pair tests. Marks w.near of both parents and
+  /// adj_ = stamp_ for each pair within d_min (eq. 29).
   void sweep_near(int th, double d_min, ThreadWork& w) {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
     const double d2 = d_min * d_min;
@@ -983,8 +978,6 @@ class Rbpf {
     count_ = ns;
   }
 
-  /// Runs the UKF of `n` children (child(i) -> BankChild, in parent order) on the pool and writes prior +
-  /// log-likelihood to logw[i]; failures get weight zero.
   /// Cost of a parent's sigma-point preparation (UkfKernel::prepare) in child updates (finish), for the
   /// split of the bank only (the result does not depend on it). Additive noise: the preparation carries the
   /// sigma points through the motion and the measurements, a child only adds its noise moments (about 1.25
@@ -993,8 +986,30 @@ class Rbpf {
   /// additive ratio for both, the augmented bank of rRBPF-128 ended 15 us later on one thread than the other.
   double prepare_cost() const { return opt_.noise_form == NoiseForm::kAugmented ? 0.05 : 1.25; }
 
-  /// The children are split over the threads by cost (prepare_cost() child updates per parent's sigma-point
-  /// preparation), and `after(b, e, work)` runs on each thread's range in the same parallel region.
+  /// Splits items [0, n) into T contiguous shares of about equal total cost(i) (cost(i) > 0, called twice
+  /// per item): split[0] = 0, split[T] = n, and each inner boundary before or after the item that crosses
+  /// t/T of the total, whichever is nearer (always after gave the first share half an item more on
+  /// average: 1.5 us of an augmented update). Used for the UKF bank and the neighbour sweep.
+  template <class Cost>
+  static void split_by_cost(int n, int T, Cost cost, int* split) {
+    double total = 0.0;
+    for (int i = 0; i < n; ++i) total += cost(i);
+    split[0] = 0;
+    int t = 1;
+    double acc = 0.0;
+    for (int i = 0; i < n && t < T; ++i) {
+      const double c = cost(i);
+      acc += c;
+      for (double target; t < T && acc >= (target = total * t / T); ++t)
+        split[t] = std::max(split[t - 1], 2.0 * (acc - target) <= c ? i + 1 : i);
+    }
+    for (; t <= T; ++t) split[t] = n;
+  }
+
+  /// Runs the UKF of `n` children (child(i) -> BankChild, in parent order) on the pool and writes prior +
+  /// log-likelihood to logw[i]; failures get weight zero. The children are split over the threads by cost
+  /// (prepare_cost() child updates per parent's sigma-point preparation), and `after(b, e, work)` runs on
+  /// each thread's range in the same parallel region.
   template <class Child, class MeanOut, class CovOut, class After>
   void run_bank(int n, double t, Child child, MeanOut mean_out, CovOut cov_out, double* logw,
                 RbpfStepInfo& info, After after) {
@@ -1011,29 +1026,10 @@ class Rbpf {
     std::fill(thread_fail_.begin(), thread_fail_.end(), 0);
     std::fill(thread_status_.begin(), thread_status_.end(), CholeskyStatus::kOk);
     bank_threads_ = T;
-    double total = 0.0;
-    int last = -1;
-    for (int i = 0; i < n; ++i) {
-      const int p = child(i).parent;
-      total += p != last ? 1.0 + prepare_cost() : 1.0;
-      last = p;
-    }
-    split_[0] = 0;
-    int th = 1;
-    double acc = 0.0;
-    last = -1;
-    for (int i = 0; i < n && th < T; ++i) {
-      const int p = child(i).parent;
-      const double c = p != last ? 1.0 + prepare_cost() : 1.0;
-      acc += c;
-      last = p;
-      // The boundary before or after child i, whichever is nearer the target (always after it made the
-      // first thread one half child longer on average: 1.5 us of an augmented update).
-      for (double target; th < T && acc >= (target = total * th / T); ++th)
-        split_[static_cast<std::size_t>(th)] =
-            std::max(split_[static_cast<std::size_t>(th) - 1], 2.0 * (acc - target) <= c ? i + 1 : i);
-    }
-    while (th <= T) split_[static_cast<std::size_t>(th++)] = n;
+    split_by_cost(
+        n, T,
+        [&](int i) { return i == 0 || child(i).parent != child(i - 1).parent ? 1.0 + prepare_cost() : 1.0; },
+        split_.data());
   }
 
   /// Thread th's part of the bank: children [split_[th], split_[th + 1]), then after(b, e, work).

@@ -98,8 +98,7 @@ class ThreadPool {
     error_ = nullptr;
     pending_.store(size_ - 1, std::memory_order_relaxed);
     // Dekker pair with a worker going to sleep (loop): it raises sleepers_ and then re-reads gen_, we bump
-    // gen_ and then read sleepers_ (both seq_cst), so one of us sees the other. The mutex and the
-    // condition variable are touched only when a worker is asleep: a spinning worker costs one cache line.
+    // gen_ and then read sleepers_ (both seq_cst), so one of us sees the other.
     gen_.fetch_add(1, std::memory_order_seq_cst);
     if (sleepers_.load(std::memory_order_seq_cst) > 0) {
       std::lock_guard<std::mutex> lk(m_);
