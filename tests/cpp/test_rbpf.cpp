@@ -111,6 +111,42 @@ TEST_CASE("merge visiting order: the radix grouping equals the comparison sort",
   }
 }
 
+TEST_CASE("merge visiting order: the counting-sort grouping of narrow key ranges equals the comparison sort",
+          "[rbpf][merge]") {
+  // keys spanning fewer values than the counting pass accepts (the RBPF's N_z^B situations), offset from
+  // zero, at sizes on both sides of kRadixMin; weights with ties; one key (a single group); one particle;
+  // and a wide span (2^40: the comparison sort, or the radix sort from kRadixMin on).
+  for (int n : {1, 7, 300, MergeWorkspace::kRadixMin + 5}) {
+    for (std::uint64_t span : {std::uint64_t{1}, std::uint64_t{64},
+                               std::uint64_t{2} * static_cast<std::uint64_t>(n), std::uint64_t{1} << 40}) {
+      Rng rng(static_cast<std::uint64_t>(n) * 31 + span);
+      std::vector<std::uint64_t> key(static_cast<std::size_t>(n));
+      std::vector<double> lw(static_cast<std::size_t>(n));
+      for (int i = 0; i < n; ++i) {
+        key[static_cast<std::size_t>(i)] = (std::uint64_t{1} << 40) + rng.below(span);
+        lw[static_cast<std::size_t>(i)] = i % 5 == 0 ? -2.0 : std::log(rng.uniform());
+      }
+      std::vector<int> ref(static_cast<std::size_t>(n));
+      std::iota(ref.begin(), ref.end(), 0);
+      std::sort(ref.begin(), ref.end(), [&](int a, int b) {
+        const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
+        if (key[ua] != key[ub]) return key[ua] < key[ub];
+        if (lw[ua] != lw[ub]) return lw[ua] > lw[ub];
+        return a < b;
+      });
+      MergeWorkspace ws;
+      ws.reserve(static_cast<std::size_t>(n));
+      const auto cap = ws.count.capacity();
+      nlosloc::rbpf::detail::merge_order(key.data(), lw.data(), n, ws);
+      CHECK(ws.order == ref);
+      CHECK(ws.count.capacity() == cap);  // reserve() covered the histogram: no allocation
+      for (int i = 0; i < n; ++i)
+        CHECK(ws.sorted_keys[static_cast<std::size_t>(i)] ==
+              key[static_cast<std::size_t>(ref[static_cast<std::size_t>(i)])]);
+    }
+  }
+}
+
 TEST_CASE("selection of the M heaviest records equals a full sort, ties by index", "[rbpf][merge]") {
   Rng rng(11);
   std::vector<double> w, tmp;
