@@ -171,6 +171,7 @@ class Rbpf {
       w->near.assign(static_cast<std::size_t>(M), 0);
       if (options.variant == RbpfVariant::kReordered) {
         w->sub.reserve(cap);
+        w->sub_parent.reserve(cap);
         w->sub_key.reserve(cap);
         w->sub_logw.reserve(cap);
         w->mws.reserve(cap);
@@ -324,7 +325,7 @@ class Rbpf {
     std::vector<int> opt;      // B x N_z: each anchor's conditions by decreasing factor (offer_pruned)
     std::vector<char> near;    // near[p] = 1 when this thread's sweep found a neighbour of parent p
     // merge_share: this thread's children of parents with a neighbour, their keys and log weights
-    std::vector<int> sub;
+    std::vector<int> sub, sub_parent;
     std::vector<std::uint64_t> sub_key;
     std::vector<double> sub_logw;
     MergeWorkspace mws;
@@ -418,10 +419,11 @@ class Rbpf {
 
   /// The reordered step (Table V) in one parallel region, phases split by spin barriers (one hand-off
   /// per step; the calling thread is thread 0):
-  ///  A. each thread sweeps its share of the parent pairs for neighbours (eq. 29 on the predicted means:
-  ///     children keep their parent's kinetic belief, so two children are close exactly when they have the
-  ///     same situation and their parents are close), then computes the factors, best child and three known
-  ///     child weights of a contiguous share of the parents;
+  ///  A. each thread computes the factors, best child and three known child weights of a contiguous share
+  ///     of the parents, then sweeps its share of the parent pairs for neighbours (eq. 29 on the predicted
+  ///     means: children keep their parent's kinetic belief, so two children are close exactly when they
+  ///     have the same situation and their parents are close); thread 0 sets the sweep up first, and its
+  ///     share of the pairs is smaller by that cost;
   ///  B. writes every child of its parents with a neighbour and publishes its first shared bound
   ///     (publish_known_bound); then enumerates the children of its other parents that can reach the
   ///     shared cut into its candidate buffer (enumerate_share);
@@ -439,8 +441,8 @@ class Rbpf {
     const int T = active_threads(static_cast<int>(std::max<long long>(count_, most)));
     expand_threads_ = T;
     const bool merge = opt_.merge && count_ > 1;
-    if (merge) prepare_sweep(d_min, T);
     region_failed_ = false;
+    const unsigned gen = ++region_gen_;
     pool_->parallel_for(T, [&](int th, int, int) {
       ThreadWork& w = *work_[static_cast<std::size_t>(th)];
       std::exception_ptr err;
@@ -457,11 +459,24 @@ class Rbpf {
       w.merged = 0;
       w.crec.clear();
       shared_cut_[static_cast<std::size_t>(th)].q.store(-kInf, std::memory_order_relaxed);  // stale: invalid
-      // A. neighbours (sweep share), factors and bounds of this thread's parents
+      // A. neighbours (sweep share), factors and bounds of this thread's parents. Thread 0 first sets up
+      // the sweep (a serial pass: before the region, both cores waited for it); the others compute their
+      // factors meanwhile and sweep after.
+      guarded([&] { std::fill(w.near.begin(), w.near.begin() + count_, 0); });
+      if (merge && th == 0) {
+        sweep_ok_ = false;
+        guarded([&] {
+          prepare_sweep(d_min, T);
+          sweep_ok_ = true;
+        });
+        sweep_gen_->v.store(gen, std::memory_order_release);  // even after a failure: no one waits forever
+      }
       guarded([&] {
-        std::fill(w.near.begin(), w.near.begin() + count_, 0);
-        if (merge) sweep_near(th, d_min, w);
         for (int p = pb; p < pe; ++p) parent_bounds(p, k, w);
+        if (merge) {
+          for (int i = 0; sweep_gen_->v.load(std::memory_order_acquire) != gen; ++i) detail::spin_relax(i);
+          if (sweep_ok_) sweep_near(th, d_min, w);
+        }
         w.psorted.resize(static_cast<std::size_t>(pe - pb));
         std::iota(w.psorted.begin(), w.psorted.end(), pb);
         std::sort(w.psorted.begin(), w.psorted.end(), HeavierFirst{best_.data()});
@@ -706,10 +721,14 @@ class Rbpf {
     publish();  // final: the selection filters with it
   }
 
-  /// Serial set-up of the neighbour sweep: the predicted means F x_p (unless the last UKF bank left them),
-  /// the parents bucketed by their first state component into cells of width w >= d_min (a counting sort,
-  /// linear: a comparison sort of the parents cost more than the whole sweep), and a fresh stamp for adj_
-  /// (no clearing per step). Two parents within d_min lie in the same or adjacent cells, since
+  /// Set-up time per parent in pair tests of the sweep: 1.7 us for 128 parents against 1.7 ns a test
+  /// (H2 model, two threads, instrumented region; the predicted means are read from both cores).
+  static constexpr double kSetupTests = 8.0;
+
+  /// Set-up of the neighbour sweep (thread 0, before it sweeps): the predicted means F x_p (unless the last
+  /// UKF bank left them), the parents bucketed by their first state component into cells of width w >= d_min
+  /// (a counting sort, linear: a comparison sort of the parents cost more than the whole sweep), and a fresh
+  /// stamp for adj_ (no clearing per step). Two parents within d_min lie in the same or adjacent cells, since
   /// |dx_0| <= ||dx|| < d_min <= w.
   void prepare_sweep(double d_min, int T) {
     if (!xpred_ready_)
@@ -746,12 +765,14 @@ class Rbpf {
     for (std::size_t i = 0; i < byx_.size(); ++i) sxp_[i] = xpred_[static_cast<std::size_t>(byx_[i].second)];
     // Shares of the sweep rows with about equal numbers of pair tests: row i tests the rows after it to the
     // end of the next cell (cell_[c] is now the end of cell c), +2 for its own visit and its last test.
+    // Thread 0 (first rows) also ran this set-up: kSetupTests pair tests per parent.
     sweep_split_.resize(static_cast<std::size_t>(T) + 1);
     split_by_cost(
         count_, T,
         [&](int i) {
           const int c = std::min(byx_[static_cast<std::size_t>(i)].first + 1, ncell - 1);
-          return static_cast<double>(cell_[static_cast<std::size_t>(c)] - i + 1);
+          return static_cast<double>(cell_[static_cast<std::size_t>(c)] - i + 1) +
+                 (i == 0 ? kSetupTests * count_ : 0.0);
         },
         sweep_split_.data());
     if (++stamp_ == 0) {  // wrapped: entries of 65536 steps ago would read as this step's
@@ -835,6 +856,7 @@ class Rbpf {
     const std::uint64_t chunk =
         (key_count_ + static_cast<std::uint64_t>(T) - 1) / static_cast<std::uint64_t>(T);
     w.sub.clear();
+    w.sub_parent.clear();
     w.sub_key.clear();
     w.sub_logw.clear();
     for (int p = 0; p < count_; ++p) {
@@ -843,6 +865,7 @@ class Rbpf {
            ++i) {
         if (!(off_logw_[i] > -kInf) || static_cast<int>(off_key_[i] / chunk) != th) continue;
         w.sub.push_back(static_cast<int>(i));
+        w.sub_parent.push_back(p);
         w.sub_key.push_back(off_key_[i]);
         w.sub_logw.push_back(off_logw_[i]);
       }
@@ -851,16 +874,13 @@ class Rbpf {
     w.merged = merge_greedy(
         w.sub_key.data(), w.sub_logw.data(), static_cast<int>(w.sub.size()),
         [&](int a, int b) {
-          const auto pa = static_cast<std::size_t>(
-              off_parent_[static_cast<std::size_t>(w.sub[static_cast<std::size_t>(a)])]);
-          const auto pb = static_cast<std::size_t>(
-              off_parent_[static_cast<std::size_t>(w.sub[static_cast<std::size_t>(b)])]);
+          const auto pa = static_cast<std::size_t>(w.sub_parent[static_cast<std::size_t>(a)]);
+          const auto pb = static_cast<std::size_t>(w.sub_parent[static_cast<std::size_t>(b)]);
           return adj_[pa * M + pb] == stamp_;
         },
         w.mws);
     for (std::size_t j = 0; j < w.sub.size(); ++j)  // absorbed children (-inf) are refused
-      if (w.sub_logw[j] > -kInf)
-        keep_candidate(w, {w.sub_logw[j], w.sub[j], w.sub[j] / per_parent_, w.sub_key[j]});
+      if (w.sub_logw[j] > -kInf) keep_candidate(w, {w.sub_logw[j], w.sub[j], w.sub_parent[j], w.sub_key[j]});
   }
 
   void step_reordered(long k, double t, RbpfStepInfo& info) {
@@ -1120,6 +1140,13 @@ class Rbpf {
   };
   std::unique_ptr<SharedCut[]> shared_cut_;  // enumerate_share's exchanged bounds (pointer: movable)
   static constexpr int kShareEvery = 4;
+  struct alignas(64) SweepFlag {
+    std::atomic<unsigned> v{0};
+  };
+  // = region_gen_ once thread 0 has set up this region's sweep (prepare_sweep; pointer: movable)
+  std::unique_ptr<SweepFlag> sweep_gen_ = std::make_unique<SweepFlag>();
+  unsigned region_gen_ = 0;  // reordered regions run
+  bool sweep_ok_ = false;    // prepare_sweep succeeded (read after sweep_gen_)
   int B_ = 0, nz_ = 0, per_parent_ = 0, count_ = 0;
   bool first_ = true;
   double t_ = 0.0, pos_var_ = 0.0;
