@@ -78,6 +78,21 @@ TEST_CASE("merge rule on hand-built particle sets (eqs. 29-30)", "[rbpf][merge]"
   CHECK_THAT(default_merge_threshold(12.8, 128), WithinRel(0.01, 1e-14));  // eq. (31)
 }
 
+namespace {
+/// The merge's visiting order by a plain comparison sort: key, then weight descending, then index.
+std::vector<int> reference_merge_order(const std::vector<std::uint64_t>& key, const std::vector<double>& lw) {
+  std::vector<int> ref(key.size());
+  std::iota(ref.begin(), ref.end(), 0);
+  std::sort(ref.begin(), ref.end(), [&](int a, int b) {
+    const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
+    if (key[ua] != key[ub]) return key[ua] < key[ub];
+    if (lw[ua] != lw[ub]) return lw[ua] > lw[ub];
+    return a < b;
+  });
+  return ref;
+}
+}  // namespace
+
 TEST_CASE("merge visiting order: the radix grouping equals the comparison sort", "[rbpf][merge]") {
   // n above kRadixMin: keys with many repeats (full 64-bit range, shared high and low digits), weights
   // with ties; the visiting order must be exactly by key, then weight descending, then index.
@@ -89,14 +104,7 @@ TEST_CASE("merge visiting order: the radix grouping equals the comparison sort",
       key[static_cast<std::size_t>(i)] = (rng.below(50) << 40) * 0x9E3779B97F4A7C15ULL + rng.below(3);
       lw[static_cast<std::size_t>(i)] = i % 7 == 0 ? -1.0 : std::log(rng.uniform());
     }
-    std::vector<int> ref(static_cast<std::size_t>(n));
-    std::iota(ref.begin(), ref.end(), 0);
-    std::sort(ref.begin(), ref.end(), [&](int a, int b) {
-      const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
-      if (key[ua] != key[ub]) return key[ua] < key[ub];
-      if (lw[ua] != lw[ub]) return lw[ua] > lw[ub];
-      return a < b;
-    });
+    std::vector<int> ref = reference_merge_order(key, lw);
     MergeWorkspace ws;
     nlosloc::rbpf::detail::merge_order(key.data(), lw.data(), n, ws);
     CHECK(ws.order == ref);
@@ -126,14 +134,7 @@ TEST_CASE("merge visiting order: the counting-sort grouping of narrow key ranges
         key[static_cast<std::size_t>(i)] = (std::uint64_t{1} << 40) + rng.below(span);
         lw[static_cast<std::size_t>(i)] = i % 5 == 0 ? -2.0 : std::log(rng.uniform());
       }
-      std::vector<int> ref(static_cast<std::size_t>(n));
-      std::iota(ref.begin(), ref.end(), 0);
-      std::sort(ref.begin(), ref.end(), [&](int a, int b) {
-        const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
-        if (key[ua] != key[ub]) return key[ua] < key[ub];
-        if (lw[ua] != lw[ub]) return lw[ua] > lw[ub];
-        return a < b;
-      });
+      const std::vector<int> ref = reference_merge_order(key, lw);
       MergeWorkspace ws;
       ws.reserve(static_cast<std::size_t>(n));
       const auto cap = ws.count.capacity();
