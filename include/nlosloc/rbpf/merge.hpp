@@ -45,7 +45,8 @@ struct MergeWorkspace {
   static constexpr int kRadixMin = 4096;
   /// Keys spanning at most this many values per particle (plus kCountSlack) are grouped by one counting
   /// pass, whatever n: the RBPF's merge groups a few hundred children over N_z^B = 64 keys (H2), where
-  /// the comparison sort took 22 us of a 120 us step (instrumented, one thread).
+  /// the whole merge took 22 us of a 120 us step with the comparison sort, 9.9 us with this pass (4.4 us
+  /// of it the ordering; instrumented, one thread).
   static constexpr std::size_t kCountPerItem = 2, kCountSlack = 64, kCountMax = std::size_t{1} << 16;
   static std::size_t count_limit(std::size_t n) {
     return std::min(kCountPerItem * n + kCountSlack, kCountMax);
