@@ -54,11 +54,11 @@ struct MergeWorkspace {
   void reserve(std::size_t n) {
     order.reserve(n);
     sorted_keys.reserve(n);
-    count.reserve(count_limit(n) + 1);
-    if (n >= static_cast<std::size_t>(kRadixMin)) {
+    const bool radix = n >= static_cast<std::size_t>(kRadixMin);
+    count.reserve(std::max(count_limit(n) + 1, radix ? std::size_t{1} << kRadixBits : 0));
+    if (radix) {
       tmp_order.reserve(n);
       tmp_keys.reserve(n);
-      count.reserve(std::max(count_limit(n) + 1, std::size_t{1} << kRadixBits));
     }
   }
 };

@@ -469,12 +469,12 @@ class Rbpf {
           prepare_sweep(d_min, T);
           sweep_ok_ = true;
         });
-        sweep_gen_->v.store(gen, std::memory_order_release);  // even after a failure: no one waits forever
+        sweep_ready_->publish(gen);  // even after a failure: no one waits forever
       }
       guarded([&] {
         for (int p = pb; p < pe; ++p) parent_bounds(p, k, w);
         if (merge) {
-          for (int i = 0; sweep_gen_->v.load(std::memory_order_acquire) != gen; ++i) detail::spin_relax(i);
+          sweep_ready_->wait(gen);
           if (sweep_ok_) sweep_near(th, d_min, w);
         }
         w.psorted.resize(static_cast<std::size_t>(pe - pb));
@@ -1140,13 +1140,10 @@ class Rbpf {
   };
   std::unique_ptr<SharedCut[]> shared_cut_;  // enumerate_share's exchanged bounds (pointer: movable)
   static constexpr int kShareEvery = 4;
-  struct alignas(64) SweepFlag {
-    std::atomic<unsigned> v{0};
-  };
-  // = region_gen_ once thread 0 has set up this region's sweep (prepare_sweep; pointer: movable)
-  std::unique_ptr<SweepFlag> sweep_gen_ = std::make_unique<SweepFlag>();
+  // published by thread 0 once it has set up the region's sweep (prepare_sweep; pointer: movable)
+  std::unique_ptr<SpinFlag> sweep_ready_ = std::make_unique<SpinFlag>();
   unsigned region_gen_ = 0;  // reordered regions run
-  bool sweep_ok_ = false;    // prepare_sweep succeeded (read after sweep_gen_)
+  bool sweep_ok_ = false;    // prepare_sweep succeeded (read after sweep_ready_)
   int B_ = 0, nz_ = 0, per_parent_ = 0, count_ = 0;
   bool first_ = true;
   double t_ = 0.0, pos_var_ = 0.0;

@@ -61,6 +61,20 @@ class SpinBarrier {
   std::atomic<unsigned> gen_{0};
 };
 
+/// One-way signal inside a parallel region: one thread writes some data and publishes the region's
+/// generation g (release); the others wait for g (acquire) before they read the data. Spins like
+/// SpinBarrier; reusable, each region passing a new generation.
+class SpinFlag {
+ public:
+  void publish(unsigned g) { gen_.store(g, std::memory_order_release); }
+  void wait(unsigned g) const {
+    for (int i = 0; gen_.load(std::memory_order_acquire) != g; ++i) detail::spin_relax(i);
+  }
+
+ private:
+  alignas(64) std::atomic<unsigned> gen_{0};
+};
+
 /// Persistent thread pool for the UKF bank and the particle filter.
 class ThreadPool {
  public:
