@@ -191,10 +191,12 @@ inline void merge_order(const std::uint64_t* keys, const double* logw, int n, Me
   const HeavierFirst heavier{logw};
   ws.sorted_keys.resize(N);
   if (N == 0) return;
-  std::uint64_t kmin = keys[0], kmax = keys[0];
-  for (std::size_t i = 1; i < N; ++i) {
+  // One pass over the keys: their range picks the grouping; `used` (every set bit) bounds the radix passes.
+  std::uint64_t kmin = keys[0], kmax = keys[0], used = 0;
+  for (std::size_t i = 0; i < N; ++i) {
     kmin = std::min(kmin, keys[i]);
     kmax = std::max(kmax, keys[i]);
+    used |= keys[i];
   }
   if (kmax - kmin < MergeWorkspace::count_limit(N)) {
     const auto range = static_cast<std::size_t>(kmax - kmin) + 1;
@@ -222,8 +224,8 @@ inline void merge_order(const std::uint64_t* keys, const double* logw, int n, Me
   ws.tmp_keys.resize(N);
   ws.count.resize(kBuckets);
   std::iota(ws.order.begin(), ws.order.end(), 0);
-  std::uint64_t used = 0;  // digits above the highest set bit of every key need no pass
-  for (std::size_t i = 0; i < N; ++i) used |= (ws.sorted_keys[i] = keys[i]);
+  std::copy(keys, keys + n, ws.sorted_keys.begin());
+  // digits above the highest set bit of every key need no pass
   for (int shift = 0; shift < 64 && (used >> shift) != 0; shift += kBits) {
     std::fill(ws.count.begin(), ws.count.end(), 0);
     for (std::size_t i = 0; i < N; ++i) ++ws.count[(ws.sorted_keys[i] >> shift) & (kBuckets - 1)];
