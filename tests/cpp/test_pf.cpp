@@ -193,3 +193,61 @@ TEST_CASE("joint PF: lazy covariance and normalised log weights equal their defi
     }
   }
 }
+
+TEST_CASE("joint PF: a rejected step changes nothing, and the next step is that of a clean filter", "[pf]") {
+  ConstantVelocityClock2 motion(0.01, 1.0, 1e-2);
+  si::SightProcess proc(si::SightModel::speed_dependent(10, 10, 0.01), 6);
+  si::QualityModel q{{nn::Beta(4, 1.5), nn::Beta(1.5, 4)}};
+  const MeasurementStack st = h2_stack();
+  Gaussian<6> g;
+  g.mean.setZero();
+  g.cov = Vec<6>(25, 25, 10, 1, 1, 10).asDiagonal();
+  for (int threads : {1, 2}) {
+    for (auto rs : {PfResampling::kSystematic, PfResampling::kMergeSelect}) {
+      PfOptions po;
+      po.num_particles = 2000;
+      po.threads = threads;
+      po.resampling = rs;
+      po.seed = 4;
+      ParticleFilter<ConstantVelocityClock2> f(motion, st, proc, q, g, po), clean(motion, st, proc, q, g, po);
+      Rng rng(3);
+      VecX y(6), o = VecX::Constant(6, 0.7);
+      auto draw = [&] {
+        for (int b = 0; b < 6; ++b) y(b) = 3000.0 + 3.0 * rng.normal();
+      };
+      for (int k = 0; k < 2; ++k) {
+        draw();
+        f.step(y, o);
+        clean.step(y, o);
+      }
+      const MatX X0 = f.particles();
+      const Eigen::MatrixXi S0 = f.situations();
+      const VecX lw0 = f.log_weights();
+      const Vec<6> e0 = f.estimate();
+      const Mat<6, 6> C0 = f.covariance();
+      const double t0 = f.time();
+      VecX bad = y;
+      bad(0) = -1e200;  // far below every predicted range: zero density for every particle (both conditions)
+      CHECK_THROWS_AS(f.step(bad, o), NumericalError);
+      CHECK(f.particles() == X0);
+      CHECK(f.situations() == S0);
+      CHECK(f.log_weights() == lw0);
+      CHECK(f.estimate() == e0);
+      CHECK(f.covariance() == C0);
+      CHECK(f.time() == t0);
+      // an impossible quality statistic is an input error, found before anything moves
+      VecX ob = o;
+      ob(3) = 1.5;
+      CHECK_THROWS_WITH(f.step(y, ob), "o: statistic of anchor 3 has zero density under every condition");
+      CHECK(f.particles() == X0);
+      // the generators were restored too: the next steps are those of the filter that never saw the bad data
+      for (int k = 0; k < 2; ++k) {
+        draw();
+        f.step(y, o);
+        clean.step(y, o);
+        CHECK(f.particles() == clean.particles());
+        CHECK(f.log_weights() == clean.log_weights());
+      }
+    }
+  }
+}

@@ -772,6 +772,51 @@ TEST_CASE("systematic resampling is unbiased", "[rbpf][pf]") {
   }
 }
 
+TEST_CASE("the PF's chunked systematic resampling: every pointer once, unbiased, equal to one serial pass",
+          "[rbpf][pf]") {
+  // ParticleFilter::resample runs systematic_resample_chunk on every thread's chunk of the particles
+  const int n = 40;
+  Rng rng(21);
+  VecX w(n);
+  for (int i = 0; i < n; ++i) w(i) = (i % 7 == 3) ? 0.0 : 3.7 * rng.uniform();  // unnormalised, some zero
+  w(n - 1) = 0.0;                                                               // a zero at the end
+  const double total = w.sum();
+  for (int M : {1, 7, 40, 123}) {
+    std::vector<int> serial(static_cast<std::size_t>(M));
+    for (int T : {1, 2, 3, 5}) {
+      std::vector<double> mean(n, 0.0);
+      const int K = 2000;  // u0 on a fine grid: the mean count is M w_i / total up to 1/K
+      for (int kk = 0; kk < K; ++kk) {
+        const double u0 = (kk + 0.5) / K;
+        systematic_resample_chunk(w, 0, n, 0.0, total, total, M, u0, 0, 1, serial.data());
+        std::vector<int> out(static_cast<std::size_t>(M), -1);
+        double c0 = 0.0;
+        int next = 0;
+        for (int t = 0; t < T; ++t) {
+          const int b = n * t / T, e = n * (t + 1) / T;
+          const double c1 = c0 + w.segment(b, e - b).sum();
+          const auto [jb, je] = systematic_resample_chunk(w, b, e, c0, c1, total, M, u0, t, T, out.data());
+          if (jb < je) {
+            CHECK(jb == next);  // the chunks' pointer ranges partition [0, M) in order
+            next = je;
+          }
+          for (int j = jb; j < je; ++j)
+            CHECK((out[static_cast<std::size_t>(j)] >= b && out[static_cast<std::size_t>(j)] < e));
+          c0 = c1;
+        }
+        CHECK(next == M);
+        CHECK(out == serial);
+        for (int j : out) mean[static_cast<std::size_t>(j)] += 1.0 / K;
+      }
+      for (int i = 0; i < n; ++i) {
+        INFO("M " << M << " T " << T << " i " << i);
+        CHECK_THAT(mean[static_cast<std::size_t>(i)], WithinAbs(M * w(i) / total, 1.0 / K + 1e-12));
+        if (w(i) == 0.0) CHECK(mean[static_cast<std::size_t>(i)] == 0.0);
+      }
+    }
+  }
+}
+
 TEST_CASE("joint PF tracks the H2-like track, merge-select keeps M particles", "[rbpf][pf]") {
   const H2Like h;
   std::vector<VecX> y, o;

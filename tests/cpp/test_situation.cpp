@@ -124,6 +124,67 @@ TEST_CASE("forward filter against a hand calculation (eqs. 36-38)", "[situation]
   CHECK_THROWS_AS(f.update(VecX::Zero(2)), std::invalid_argument);
 }
 
+TEST_CASE("forward filter: a rejected call changes nothing, and set_probabilities is the next prior",
+          "[situation]") {
+  const SightProcess proc(SightModel::speed_dependent(30, 5, 0.1), 2);
+  const QualityModel q({nn::Beta(4, 1.5), nn::Beta(1.5, 4)});
+  ForwardFilter f(proc, q);
+  VecX o(2), w(2);
+  o << 0.9, 0.2;
+  w << 3.0, 1.0;
+  f.step(o, w);
+  const MatX g0 = f.probabilities(), p0 = f.predicted();
+  const long k0 = f.step_index();
+  const double e0 = f.last_log_evidence();
+  auto unchanged = [&] {
+    CHECK(f.probabilities() == g0);
+    CHECK(f.predicted() == p0);
+    CHECK(f.step_index() == k0);
+    CHECK(f.last_log_evidence() == e0);
+  };
+  CHECK_THROWS_WITH(f.step(VecX::Zero(1), w), "o: expected shape (2, 1), got (1, 1)");
+  unchanged();
+  VecX wb = w;
+  wb(1) = -1.0;
+  CHECK_THROWS_WITH(f.predict(wb), Catch::Matchers::StartsWith("speeds: expected finite values >= 0"));
+  unchanged();
+  wb(1) = std::nan("");
+  CHECK_THROWS_WITH(f.step(o, wb), Catch::Matchers::StartsWith("speeds: expected finite values >= 0"));
+  unchanged();
+  VecX ob = o;
+  ob(1) = 7.0;  // outside [0, 1]: zero density under both Beta pdfs, found after the prediction
+  CHECK_THROWS_WITH(f.step(ob, w), "o: statistic of anchor 1 has zero density under every condition");
+  unchanged();
+  ob << 0.1, 7.0;  // anchor 0 is fine: it must not be updated either
+  CHECK_THROWS_WITH(f.update(ob), "o: statistic of anchor 1 has zero density under every condition");
+  unchanged();
+  ob << 0.1, std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(f.update(ob),
+                    "o: expected finite statistics, or NaN for a missing one; got inf at anchor 1");
+  unchanged();
+  // set_probabilities replaces the prior of the next update: certain NLOS stays NLOS
+  MatX certain(2, 2);
+  certain << 0, 1, 0, 1;
+  f.set_probabilities(certain);
+  f.update(o);
+  CHECK(f.probabilities() == certain);
+  CHECK_THROWS_WITH(f.set_probabilities(MatX::Constant(2, 2, 0.3)),
+                    "gamma: every row must hold probabilities (>= 0) summing to 1; row 0 does not");
+}
+
+TEST_CASE("a reducible chain starts from the uniform prior", "[situation]") {
+  // T = I has every distribution stationary: no unique answer, so the documented uniform fallback
+  CHECK(SightModel::fixed(MatX::Identity(2, 2)).initial().isApprox(VecX::Constant(2, 0.5)));
+  CHECK(SightModel::fixed(MatX::Identity(3, 3)).initial().isApprox(VecX::Constant(3, 1.0 / 3.0)));
+  // an absorbing LOS state is reducible but has a unique stationary vector: (1, 0)
+  MatX T(2, 2);
+  T << 1.0, 0.0, 0.5, 0.5;
+  const VecX pi = SightModel::fixed(T).initial();
+  CHECK_THAT(pi(0), WithinAbs(1.0, 1e-12));
+  CHECK_THAT(pi(1), WithinAbs(0.0, 1e-12));
+  CHECK_THROWS_WITH(SightProcess(SightModel::fixed(T), 0), "num_anchors: expected an integer >= 1, got 0");
+}
+
 namespace {
 MeasurementStack toa_stack() {
   MatX anchors(3, 2);
@@ -164,6 +225,37 @@ TEST_CASE("IUKF reduces to the UKF when the forward filter is certain", "[situat
   mixed.update_with_probabilities(y, MatX::Constant(3, 2, 0.5));
   los.step(y, VecXi::Zero(3));
   CHECK(mixed.cov().trace() > los.cov().trace());
+  // ... and equals a UKF whose row noise has the mixture's moments, computed here by hand (Huerta Table
+  // VI.2 / eq. 40, N_z = 2, gamma = 0.5): TOA rows N(0, 3^2) / Rayleigh of variance 2000, AOA row
+  // N(0, 0.01^2) / N(0, 0.05^2)
+  const double sr = std::sqrt(2.0 * 2000.0 / (4.0 - kPi));  // Rayleigh scale
+  const double mr = sr * std::sqrt(kPi / 2.0);              // and mean
+  const double toa_mean = 0.5 * mr;
+  const double toa_var = 0.5 * 9.0 + 0.5 * (2000.0 + mr * mr) - toa_mean * toa_mean;
+  const double aoa_var = 0.5 * 1e-4 + 0.5 * 25e-4;
+  MatX anchors(3, 2);
+  anchors << 0, 0, 1000, 0, 0, 1000;
+  MeasurementStack mst(ConstantVelocity2::layout(), anchors, 2);
+  for (int b = 0; b < 3; ++b)
+    mst.add_toa(b, {nn::Normal(toa_mean, std::sqrt(toa_var)), nn::Normal(toa_mean, std::sqrt(toa_var))});
+  mst.add_aoa(0, {nn::Normal(0, std::sqrt(aoa_var)), nn::Normal(0, std::sqrt(aoa_var))});
+  Ukf<ConstantVelocity2> moments(motion, mst, g);
+  Iukf<ConstantVelocity2> half(motion, st, g, ForwardFilter(proc, q));
+  half.predict();
+  const StepResult rh = half.update_with_probabilities(y, MatX::Constant(3, 2, 0.5));
+  const StepResult rm = moments.step(y, VecXi::Zero(3));
+  CHECK((half.mean() - moments.mean()).cwiseAbs().maxCoeff() < 1e-9);
+  CHECK((half.cov() - moments.cov()).cwiseAbs().maxCoeff() < 1e-9);
+  CHECK_THAT(rh.log_likelihood, WithinAbs(rm.log_likelihood, 1e-9));
+  // gamma must hold probabilities; a rejected update changes nothing
+  const Vec<4> hm = half.mean();
+  CHECK_THROWS_WITH(half.update_with_probabilities(y, MatX::Constant(3, 2, 0.3)),
+                    "gamma: every row must hold probabilities (>= 0) summing to 1; row 0 does not");
+  MatX neg(3, 2);
+  neg << 2, -1, 0.5, 0.5, 0.5, 0.5;
+  CHECK_THROWS_WITH(half.update_with_probabilities(y, neg),
+                    "gamma: every row must hold probabilities (>= 0) summing to 1; row 0 does not");
+  CHECK(half.mean() == hm);
   // full step with quality statistics
   Iukf<ConstantVelocity2> f(motion, st, g, ForwardFilter(proc, q));
   VecX o(3);

@@ -67,7 +67,7 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
   /// mean); update with its probabilities. The state is restored if the update throws.
   StepResult step_quality(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) {
     detail::check_measurement(y, meas_.rows());
-    detail::ensure_shape(o, meas_.num_anchors(), 1, "o");
+    situation::check_statistics(o, meas_.num_anchors());
     const auto x0 = this->x_;
     const auto P0 = this->P_;
     const double t0 = this->t_;
@@ -93,8 +93,7 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
   /// Update with explicit per-anchor condition probabilities gamma (B x N_z, rows summing to one).
   StepResult update_with_probabilities(const Eigen::Ref<const VecX>& y, const MatX& gamma) {
     detail::check_measurement(y, meas_.rows());
-    detail::ensure_shape(gamma, meas_.num_anchors(), meas_.num_conditions(), "gamma");
-    detail::ensure_finite(gamma, "gamma");
+    situation::check_probabilities(gamma, meas_.num_anchors(), meas_.num_conditions(), "gamma");
     return update_mixture(y, gamma);
   }
 

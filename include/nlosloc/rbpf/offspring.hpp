@@ -23,6 +23,10 @@ namespace nlosloc::rbpf {
 
 /// N_z^B, or 0 when it exceeds 2^62 (too many to encode).
 inline std::uint64_t situation_count(int num_conditions, int num_anchors) {
+  NLOSLOC_ENSURE(num_conditions >= 1,
+                 "num_conditions: expected an integer >= 1, got " + std::to_string(num_conditions));
+  NLOSLOC_ENSURE(num_anchors >= 0,
+                 "num_anchors: expected an integer >= 0, got " + std::to_string(num_anchors));
   std::uint64_t c = 1;
   for (int b = 0; b < num_anchors; ++b) {
     if (c > (std::uint64_t{1} << 62) / static_cast<std::uint64_t>(num_conditions)) return 0;

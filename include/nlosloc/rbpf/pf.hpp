@@ -74,17 +74,42 @@ struct PfStepInfo {
   int merged = 0;
 };
 
-/// Systematic resampling: writes M ancestor indices for normalised weights w (size n) using one uniform
-/// u0 in (0, 1): the j-th pointer is (j + u0) / M. Unbiased: E[copies of i] = M w_i.
+/// Chunk t of T of systematic resampling (Kitagawa 1996; Douc et al. 2005) over unnormalised weights w:
+/// the chunk holds items [b, e) and its cumulative weight before b is c0, after it c1 (of `total`). The
+/// pointers are (j + u0) total / M, j = 0..M-1, for one uniform u0 in (0, 1); this writes the ancestors
+/// out[j] of the pointers that fall in the chunk's share (c0, c1] and returns their range [jb, je). The
+/// chunks of a partition give exactly the pointers of one serial pass, each once. Unbiased:
+/// E[copies of i] = M w_i / total.
 template <class W>
-void systematic_resample(const W& w, int n, int M, double u0, int* out) {
-  double c = w(0);
-  int i = 0;
-  for (int j = 0; j < M; ++j) {
-    const double u = (static_cast<double>(j) + u0) / static_cast<double>(M);
-    while (u > c && i < n - 1) c += w(++i);
+std::pair<int, int> systematic_resample_chunk(const W& w, int b, int e, double c0, double c1, double total,
+                                              int M, double u0, int t, int T, int* out) {
+  const double scale = static_cast<double>(M) / total;
+  // first pointer of a boundary at cumulative weight c: #{j : (j + u0) / scale <= c}; the outer
+  // boundaries are exact (rounding must not lose or repeat a pointer)
+  auto first = [&](double c, int tb) {
+    if (tb == 0) return 0;
+    if (tb == T) return M;
+    const double f = std::floor(c * scale - u0) + 1.0;
+    return static_cast<int>(std::min<double>(M, std::max(0.0, f)));
+  };
+  const int jb = first(c0, t), je = first(c1, t + 1);
+  if (jb >= je || b >= e) return {jb, jb};
+  int i = b;
+  double c = c0 + w(i);
+  for (int j = jb; j < je; ++j) {
+    const double u = (static_cast<double>(j) + u0) / scale;
+    while (u > c && i < e - 1) c += w(++i);
     out[j] = i;
   }
+  return {jb, je};
+}
+
+/// Systematic resampling: writes M ancestor indices for normalised weights w (size n) using one uniform
+/// u0 in (0, 1): the j-th pointer is (j + u0) / M. Unbiased: E[copies of i] = M w_i. (One chunk of
+/// systematic_resample_chunk.)
+template <class W>
+void systematic_resample(const W& w, int n, int M, double u0, int* out) {
+  systematic_resample_chunk(w, 0, n, 0.0, 1.0, 1.0, M, u0, 0, 1, out);
 }
 
 namespace detail {
@@ -151,6 +176,7 @@ class ParticleFilter {
     s_.resize(M * static_cast<std::size_t>(B_));
     ns_.resize(M * static_cast<std::size_t>(B_));
     logw_.resize(M_);
+    nlogw_.resize(M_);
     w_.resize(M_);
     anc_.resize(M);
     // Square root of Q (PSD, possibly singular: Huerta eq. 6 has no position noise): Q = G G^T with only the
@@ -274,9 +300,10 @@ class ParticleFilter {
   /// One step with measurements y (NaN = missing) and quality statistics o (size B, NaN = missing).
   PfStepInfo step(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) {
     nlosloc::detail::check_measurement(y, meas_.rows());
-    nlosloc::detail::ensure_shape(o, B_, 1, "o");
+    situation::check_statistics(o, B_);
     y_ = y;
     quality_.log_likelihood_table(o, Lq_);
+    situation::check_support(Lq_);
     const long k = k_ + 1;
     const double t = t_ + motion_.dt();
     const bool speed = sight_.speed_dependent();
@@ -296,13 +323,21 @@ class ParticleFilter {
     for (int th = 0; th < pool_->size();
          ++th)  // rows of threads with an empty chunk (M < threads) stay empty
       init_acc(&parts_[static_cast<std::size_t>(th * stride_)], 1);
+    brng_back_ = brng_;  // the pass draws from the bulk generators only (same sizes: no allocation)
+    // The pass writes the moved states, situations and log weights into nx_, ns_, nlogw_: the particles
+    // stay as they were until the step is accepted.
     pool_->parallel_for(M_, [&](int b0, int e0, int th) { propagate_weight(b0, e0, th, k, t, speed); });
-    std::swap(x_, nx_);  // the pass wrote the moved states into nx_
     PfStepInfo info;
     // Incremental weights were added to the normalised log weights: their log-sum-exp is log p(y, o | past).
     const double z = reduce(info.ess);
-    if (!std::isfinite(z))
-      nlosloc::detail::throw_numerical_error("ParticleFilter.step: every particle has zero likelihood");
+    if (!std::isfinite(z)) {
+      brng_ = brng_back_;
+      nlosloc::detail::throw_numerical_error(
+          "ParticleFilter.step: every particle has zero likelihood (the filter is unchanged)");
+    }
+    std::swap(x_, nx_);
+    std::swap(s_, ns_);
+    std::swap(logw_, nlogw_);
     info.log_likelihood = z;
     shift_ = z;  // logw_ - shift_ are the normalised log weights
     t_ = t;
@@ -351,6 +386,8 @@ class ParticleFilter {
   }
   double time() const { return t_; }
   const PfOptions& options() const { return opt_; }
+  const Motion& motion() const { return motion_; }
+  const Meas& measurements() const { return meas_; }
 
  private:
   using Packet = detail::PfPacket;
@@ -487,12 +524,15 @@ class ParticleFilter {
         bool flip = false;
         for (; j + kLanes <= n; j += kLanes) flip |= sight_fast<Packet>(i0, j, ku, w);
         for (; j < n; ++j) flip |= sight_fast<double>(i0, j, ku, w);
-        if (flip)
-          for (int b = 0; b < B_; ++b) {
-            std::uint8_t* sb = &s_[sidx(b, i0)];
-            const double* sd = &w.sd[static_cast<std::size_t>(b) * kBlock];
-            for (int jj = 0; jj < n; ++jj) sb[jj] = static_cast<std::uint8_t>(sd[jj]);
+        for (int b = 0; b < B_; ++b) {
+          std::uint8_t* nb = &ns_[sidx(b, i0)];
+          if (!flip) {
+            std::copy_n(&s_[sidx(b, i0)], n, nb);
+            continue;
           }
+          const double* sd = &w.sd[static_cast<std::size_t>(b) * kBlock];
+          for (int jj = 0; jj < n; ++jj) nb[jj] = static_cast<std::uint8_t>(sd[jj]);
+        }
       } else {
         for (; j < n; ++j) sight_generic(i0, j, ku, k, speed, w);
       }
@@ -574,7 +614,7 @@ class ParticleFilter {
     const auto& L = meas_.layout();
     const int i = i0 + j;
     for (int b = 0; b < B_; ++b) {
-      std::uint8_t& sb = s_[sidx(b, i)];
+      const std::uint8_t sb = s_[sidx(b, i)];
       const double u = w.u[static_cast<std::size_t>(b * ku + j)];
       int nj = 0;
       if (speed) {
@@ -592,7 +632,7 @@ class ParticleFilter {
       } else {
         while (nj < nz_ - 1 && u >= cum_[cidx(b, sb, nj)]) ++nj;
       }
-      sb = static_cast<std::uint8_t>(nj);
+      ns_[sidx(b, i)] = static_cast<std::uint8_t>(nj);
       w.sd[static_cast<std::size_t>(b * kBlock + j)] = nj;
     }
   }
@@ -741,7 +781,8 @@ class ParticleFilter {
       for (int j = 0; j < n; ++j) lwb[j] += Lq_(b, sd[j] > 0.5 ? 1 : 0);
     }
     // log w_t = log w_{t-1} (normalised) + log p(y | x, s) + log p(o | s); block maximum
-    double* lwo = &logw_(i0);
+    const double* lwi = &logw_(i0);
+    double* lwo = &nlogw_(i0);
     const double ninf = -std::numeric_limits<double>::infinity();
     Packet mp = cst<Packet>(ninf);
     double ms = ninf;
@@ -749,13 +790,13 @@ class ParticleFilter {
       int j = 0;
       for (; j + kLanes <= n; j += kLanes) {
         const Packet v =
-            ei::padd(ei::padd(ei::psub(ld<Packet>(lwo + j), cst<Packet>(prior_shift_)), ld<Packet>(lwb + j)),
+            ei::padd(ei::padd(ei::psub(ld<Packet>(lwi + j), cst<Packet>(prior_shift_)), ld<Packet>(lwb + j)),
                      ei::plog(ld<Packet>(pr + j)));
         ei::pstoreu(lwo + j, v);
         mp = ei::pmax(mp, v);
       }
       for (; j < n; ++j) {
-        lwo[j] = (lwo[j] - prior_shift_) + lwb[j] + std::log(pr[j]);
+        lwo[j] = (lwi[j] - prior_shift_) + lwb[j] + std::log(pr[j]);
         ms = std::max(ms, lwo[j]);
       }
     }
@@ -812,7 +853,7 @@ class ParticleFilter {
       for (int row = 0; row < m; ++row) {
         if (std::isnan(y_(row))) continue;
         const int a = meas_.row(row).anchor;
-        const int c = a < 0 ? 0 : s_[sidx(a, i)];
+        const int c = a < 0 ? 0 : ns_[sidx(a, i)];
         double res = y_(row) - z(row);
         if (meas_.is_angle(row)) res = wrap_angle(res);
         const RowLik& l =
@@ -830,20 +871,20 @@ class ParticleFilter {
       for (int row = 0; row < m; ++row) {
         if (std::isnan(y_(row))) continue;
         const int a = meas_.row(row).anchor;
-        const int c = a < 0 ? 0 : s_[sidx(a, i)];
+        const int c = a < 0 ? 0 : ns_[sidx(a, i)];
         double res = y_(row) - z(row);
         if (meas_.is_angle(row)) res = wrap_angle(res);
         lw += meas_.noise(row, c).log_pdf(res);
       }
     }
-    for (int b = 0; b < B_; ++b) lw += Lq_(b, s_[sidx(b, i)]);
+    for (int b = 0; b < B_; ++b) lw += Lq_(b, ns_[sidx(b, i)]);
     lw += logw_(i) - prior_shift_;
-    logw_(i) = lw;
+    nlogw_(i) = lw;
     double xc[N];
     for (int d = 0; d < N; ++d) xc[d] = xn(d) - centre_(d);
     double* acc = w.sacc.data();
     const double wi = accumulate<double>(acc, lw, xc, nullptr);
-    for (int b = 0; b < B_; ++b) acc[kSp + b * nz_ + s_[sidx(b, i)]] += wi;
+    for (int b = 0; b < B_; ++b) acc[kSp + b * nz_ + ns_[sidx(b, i)]] += wi;
   }
 
   /// Combines the partial sums of every thread and lane (each relative to its own running maximum) into the
@@ -863,6 +904,7 @@ class ParticleFilter {
         tot_[static_cast<std::size_t>(q)] += (q == 2 ? f * f : f) * a[q];
     }
     const double sw = tot_[1];
+    if (!std::isfinite(g + std::log(sw))) return g + std::log(sw);  // rejected: the summary is kept
     ess = sw * sw / tot_[2];
     State m1;
     for (int d = 0; d < N; ++d) m1(d) = tot_[static_cast<std::size_t>(3 + d)] / sw;
@@ -960,28 +1002,14 @@ class ParticleFilter {
     double total = 0.0;
     for (int t = 0; t < T; ++t) total += csum_[static_cast<std::size_t>(t)];
     const double u0 = rng_[0].uniform();
-    const double scale = static_cast<double>(M_) / total;
-    // first pointer index of each chunk: #{j : (j + u0) / M * total <= C_t}
-    auto first = [&](double c, int t) {
-      if (t == 0) return 0;
-      if (t == T) return M_;
-      const double f = std::floor(c * scale - u0) + 1.0;
-      return static_cast<int>(std::min<double>(M_, std::max(0.0, f)));
-    };
     pool_->parallel_for(T, [&](int t0, int t1, int) {
       for (int t = t0; t < t1; ++t) {
         double c0 = 0.0;
         for (int q = 0; q < t; ++q) c0 += csum_[static_cast<std::size_t>(q)];
-        const int jb = first(c0, t), je = first(c0 + csum_[static_cast<std::size_t>(t)], t + 1);
-        const int b0 = cbeg_[static_cast<std::size_t>(t)], e0 = cend_[static_cast<std::size_t>(t)];
-        if (jb >= je || b0 >= e0) continue;
-        int i = b0;
-        double c = c0 + w_(i);
-        for (int jj = jb; jj < je; ++jj) {
-          const double u = (static_cast<double>(jj) + u0) / scale;
-          while (u > c && i < e0 - 1) c += w_(++i);
-          anc_[static_cast<std::size_t>(jj)] = i;
-        }
+        const auto [jb, je] = systematic_resample_chunk(
+            w_, cbeg_[static_cast<std::size_t>(t)], cend_[static_cast<std::size_t>(t)], c0,
+            c0 + csum_[static_cast<std::size_t>(t)], total, M_, u0, t, T, anc_.data());
+        if (jb >= je) continue;
         for (int d = 0; d < N; ++d)
           for (int jj = jb; jj < je; ++jj) nx_[idx(d, jj)] = x_[idx(d, anc_[static_cast<std::size_t>(jj)])];
         for (int b = 0; b < B_; ++b)
@@ -1063,6 +1091,7 @@ class ParticleFilter {
   std::vector<double> x_, nx_;
   std::vector<std::uint8_t> s_, ns_;
   mutable VecX logw_;
+  VecX nlogw_;                  // the pass writes the new log weights here: a rejected step keeps logw_
   mutable double shift_ = 0.0;  // logw_ - shift_ are the normalised log weights
   double prior_shift_ = 0.0;
   VecX w_;
@@ -1070,6 +1099,7 @@ class ParticleFilter {
   Eigen::Matrix<double, N, Eigen::Dynamic> G_;
   std::vector<Rng> rng_;
   std::vector<BatchRng> brng_;
+  std::vector<BatchRng> brng_back_;  // bulk generators before the pass, restored when a step is rejected
   std::vector<ThreadWork> work_;
   std::vector<double> parts_, tot_, csum_, cum_;
   std::vector<int> cbeg_, cend_;

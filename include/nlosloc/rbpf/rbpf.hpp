@@ -224,9 +224,10 @@ class Rbpf {
   /// NaN = missing). Throws NumericalError (state unchanged) when every UKF update fails.
   RbpfStepInfo step(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) {
     nlosloc::detail::check_measurement(y, meas_.rows());
-    nlosloc::detail::ensure_shape(o, B_, 1, "o");
+    situation::check_statistics(o, B_);
     y_ = y;
     quality_.log_likelihood_table(o, Lq_);
+    situation::check_support(Lq_);
     RbpfStepInfo info;
     info.merge_threshold = opt_.merge_threshold >= 0.0
                                ? opt_.merge_threshold

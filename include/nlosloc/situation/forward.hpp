@@ -13,6 +13,18 @@
 
 namespace nlosloc::situation {
 
+/// Throws unless `gamma` is B x N_z with every row a probability vector (non-negative, summing to one
+/// within 1e-9). `name` is the argument's name in the message.
+inline void check_probabilities(const MatX& gamma, Eigen::Index B, Eigen::Index nz, const char* name) {
+  nlosloc::detail::ensure_shape(gamma, B, nz, name);
+  nlosloc::detail::ensure_finite(gamma, name);
+  for (Eigen::Index b = 0; b < gamma.rows(); ++b)
+    if (!(gamma.row(b).array() >= 0.0).all() || !(std::abs(gamma.row(b).sum() - 1.0) < 1e-9))
+      nlosloc::detail::throw_invalid_argument(
+          std::string(name) + ": every row must hold probabilities (>= 0) summing to 1; row " +
+          std::to_string(b) + " does not");
+}
+
 /// Grid-based (forward) filter of every anchor's sight condition.
 class ForwardFilter {
  public:
@@ -48,19 +60,16 @@ class ForwardFilter {
   }
   /// Replaces the probabilities (B x N_z, rows non-negative summing to one).
   void set_probabilities(const MatX& gamma) {
-    nlosloc::detail::ensure_shape(gamma, num_anchors(), num_conditions(), "gamma");
-    nlosloc::detail::ensure_finite(gamma, "gamma");
-    for (Eigen::Index b = 0; b < gamma.rows(); ++b)
-      NLOSLOC_ENSURE((gamma.row(b).array() >= 0.0).all() && std::abs(gamma.row(b).sum() - 1.0) < 1e-9,
-                     "gamma: every row must hold probabilities summing to 1");
+    check_probabilities(gamma, num_anchors(), num_conditions(), "gamma");
     gamma_ = gamma;
+    pred_ = gamma;  // the prior of the next update() (which starts from pred_)
   }
 
   /// Prediction (Huerta eq. 36): gamma_{k|t-1} = sum_m gamma_{m,t-1} P(s_t = k | s_{t-1} = m). `speeds`
-  /// (size B) are the transversal speeds, needed only by speed-dependent chains (else may be empty).
+  /// (size B, finite, >= 0) are the transversal speeds, needed only by speed-dependent chains (else may be
+  /// empty). A rejected call changes nothing.
   void predict(const Eigen::Ref<const VecX>& speeds = VecX()) {
-    const bool need = process_.speed_dependent();
-    if (need) nlosloc::detail::ensure_shape(speeds, num_anchors(), 1, "speeds");
+    const bool need = check_speeds(speeds);
     ++k_;
     for (int b = 0; b < num_anchors(); ++b) {
       process_.model(b).transition(k_, need ? speeds(b) : 0.0, T_);
@@ -71,36 +80,47 @@ class ForwardFilter {
 
   /// Update with the statistics o (size B; NaN = missing): gamma_k ∝ gamma_{k|t-1} p(o | s = k) (eq. 37),
   /// normalised so the probabilities of each anchor sum to one (eq. 38, N_z form). Returns
-  /// log p(o_t | o_1:t-1) summed over anchors.
+  /// log p(o_t | o_1:t-1) summed over anchors. Every anchor is computed before any is stored, so a
+  /// rejected call (inf in o, or a statistic impossible under every condition) changes nothing.
   double update(const Eigen::Ref<const VecX>& o) {
-    nlosloc::detail::ensure_shape(o, num_anchors(), 1, "o");
+    check_statistics(o, num_anchors());
     quality_.log_likelihood_table(o, ll_);
+    check_support(ll_);
     double total = 0.0;
     for (int b = 0; b < num_anchors(); ++b) {
-      // log-domain product then normalise, so tiny densities do not underflow (weights in log space)
+      // log-domain product then normalise, so tiny densities do not underflow (weights in log space);
+      // ll_ is overwritten with the unnormalised posterior
       const double m = ll_.row(b).maxCoeff();
-      if (!std::isfinite(m)) {
-        nlosloc::detail::throw_invalid_argument("o: statistic of anchor " + std::to_string(b) +
-                                                " has zero density under every condition");
-      }
       double z = 0.0;
       for (int k = 0; k < num_conditions(); ++k) {
-        gamma_(b, k) = pred_(b, k) * std::exp(ll_(b, k) - m);  // eq. (37)
-        z += gamma_(b, k);
+        ll_(b, k) = pred_(b, k) * std::exp(ll_(b, k) - m);  // eq. (37)
+        z += ll_(b, k);
       }
       NLOSLOC_ENSURE(z > 0.0, "o: statistic of anchor " + std::to_string(b) +
                                   " is impossible under the predicted conditions");
-      gamma_.row(b) /= z;  // eq. (38): probabilities sum to one
+      ll_.row(b) /= z;  // eq. (38): probabilities sum to one
       total += m + std::log(z);
     }
+    gamma_ = ll_;
     log_evidence_ = total;
     return total;
   }
 
-  /// predict(speeds) then update(o).
+  /// predict(speeds) then update(o); a rejected call (either argument) changes nothing.
   double step(const Eigen::Ref<const VecX>& o, const Eigen::Ref<const VecX>& speeds = VecX()) {
+    check_statistics(o, num_anchors());
+    check_speeds(speeds);
+    back_.gamma = gamma_;  // sized once: no allocation after the first step
+    back_.pred = pred_;
+    back_.k = k_;
+    back_.log_evidence = log_evidence_;
     predict(speeds);
-    return update(o);
+    try {
+      return update(o);
+    } catch (...) {
+      restore(back_);  // a statistic with zero density under every predicted condition
+      throw;
+    }
   }
 
   /// The mutable part of the filter (probabilities, step, evidence): lets an embedding filter undo a step
@@ -142,7 +162,20 @@ class ForwardFilter {
  private:
   SightProcess process_;
   QualityModel quality_;
+  /// Validates `speeds` for predict(); returns true when the chains need them.
+  bool check_speeds(const Eigen::Ref<const VecX>& speeds) const {
+    if (!process_.speed_dependent()) return false;
+    nlosloc::detail::ensure_shape(speeds, num_anchors(), 1, "speeds");
+    for (Eigen::Index b = 0; b < speeds.size(); ++b)
+      if (!(speeds(b) >= 0.0) || !std::isfinite(speeds(b)))
+        nlosloc::detail::throw_invalid_argument("speeds: expected finite values >= 0, got " +
+                                                std::to_string(speeds(b)) + " at anchor " +
+                                                std::to_string(b));
+    return true;
+  }
+
   MatX gamma_, pred_, ll_, T_;
+  Snapshot back_;  // step()'s undo copy
   long k_ = 0;
   double log_evidence_ = 0.0;
 };

@@ -56,8 +56,11 @@ inline VecX stationary_distribution(const MatX& T) {
   A.row(n - 1).setOnes();  // replace one (redundant) balance equation by the normalisation
   VecX b = VecX::Zero(n);
   b(n - 1) = 1.0;
-  VecX pi = A.colPivHouseholderQr().solve(b);
-  // A reducible chain has no unique answer; fall back to uniform rather than return garbage.
+  const Eigen::ColPivHouseholderQR<MatX> qr(A);
+  // A reducible chain (e.g. T = I) has no unique answer: A is singular and the solve would return one of
+  // many stationary vectors, arbitrarily; fall back to uniform, as documented.
+  if (qr.rank() < n) return VecX::Constant(n, 1.0 / static_cast<double>(n));
+  VecX pi = qr.solve(b);
   if (!pi.allFinite() || (pi.array() < -1e-9).any()) return VecX::Constant(n, 1.0 / static_cast<double>(n));
   pi = pi.cwiseMax(0.0);
   return pi / pi.sum();
@@ -280,8 +283,7 @@ class SightProcess {
   }
   /// The same model for `num_anchors` anchors.
   SightProcess(const SightModel& model, int num_anchors)
-      : SightProcess(
-            std::vector<SightModel>(static_cast<std::size_t>(num_anchors > 0 ? num_anchors : 0), model)) {}
+      : SightProcess(std::vector<SightModel>(checked_anchors(num_anchors), model)) {}
 
   int num_anchors() const { return static_cast<int>(models_.size()); }
   int num_conditions() const { return models_.empty() ? 0 : models_.front().num_conditions(); }
@@ -329,6 +331,12 @@ class SightProcess {
   }
 
  private:
+  static std::size_t checked_anchors(int num_anchors) {
+    NLOSLOC_ENSURE(num_anchors >= 1,
+                   "num_anchors: expected an integer >= 1, got " + std::to_string(num_anchors));
+    return static_cast<std::size_t>(num_anchors);
+  }
+
   std::vector<SightModel> models_;
 };
 

@@ -5,6 +5,7 @@
 /// (kernel density) one fitted to a measurement campaign. A missing statistic (NaN) carries no information:
 /// its log-likelihood is 0 for every condition.
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,25 @@
 #include "nlosloc/models/noise.hpp"
 
 namespace nlosloc::situation {
+
+/// Throws unless the quality statistics `o` have B entries, each finite or NaN (missing); an infinite
+/// statistic is an input error, not an observation (it would have zero density under every condition).
+inline void check_statistics(const Eigen::Ref<const VecX>& o, Eigen::Index B) {
+  nlosloc::detail::ensure_shape(o, B, 1, "o");
+  for (Eigen::Index b = 0; b < o.size(); ++b)
+    if (std::isinf(o(b)))
+      nlosloc::detail::throw_invalid_argument(
+          "o: expected finite statistics, or NaN for a missing one; got inf at anchor " + std::to_string(b));
+}
+
+/// Throws unless every anchor's statistic has non-zero density under some condition (each row of the
+/// log-likelihood table L (B x N_z) has a finite maximum): an impossible statistic is an input error.
+inline void check_support(const MatX& L) {
+  for (Eigen::Index b = 0; b < L.rows(); ++b)
+    if (!(L.row(b).maxCoeff() > -std::numeric_limits<double>::infinity()))
+      nlosloc::detail::throw_invalid_argument("o: statistic of anchor " + std::to_string(b) +
+                                              " has zero density under every condition");
+}
 
 /// p(o | s = z) for z = 0..N_z-1, the same for every anchor.
 class QualityModel {
