@@ -20,7 +20,7 @@ void bind_snapshot(pybind11::module_& m);
 void bind_mitigation(pybind11::module_& m);
 /// nlosloc.bounds: GCRB (bind_bounds.cpp).
 void bind_bounds(pybind11::module_& m);
-/// nlosloc.filters: KF, EKF, UKF, IUKF, RBPF and the other estimators (bind_filters.cpp).
+/// nlosloc.filters: KF, EKF, UKF (bind_filters.cpp); the IUKF, RBPF and PF are in nlosloc.rbpf.
 void bind_filters(pybind11::module_& m);
 /// nlosloc.sim: trajectories, scenarios, Monte Carlo runner, metrics (bind_sim.cpp).
 void bind_sim(pybind11::module_& m);

@@ -8,7 +8,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <limits>
 #include <memory>
+#include <optional>
 #include <variant>
 
 #include "bind.hpp"
@@ -116,7 +118,43 @@ void summary_methods(C& c) {
       .def(
           "sight_estimate",
           [](const A& a) { return a.visit([](const auto& f) { return VecXi(f.sight_estimate()); }); },
-          "Most probable condition per anchor (B,).");
+          "Most probable condition per anchor (B,).")
+      .def_property_readonly(
+          "time", [](const A& a) { return a.visit([](const auto& f) { return f.time(); }); },
+          "Time of the estimate (s).")
+      .def(
+          "belief",
+          [](const A& a) {
+            return a.visit([](const auto& f) {
+              const auto g = f.belief();
+              return py::make_tuple(VecX(g.mean), MatX(g.cov));
+            });
+          },
+          "The Gaussian summary as a tuple (mean (n,), cov (n, n)).");
+}
+
+/// Accessors shared by Rbpf and ParticleFilter: options, models and reset.
+template <class A, class C>
+void particle_filter_methods(C& c) {
+  c.def_property_readonly(
+       "options", [](const A& a) { return a.visit([](const auto& f) { return f.options(); }); },
+       "The settings (a copy).")
+      .def_property_readonly(
+          "measurements", [](const A& a) { return a.visit([](const auto& f) { return f.measurements(); }); },
+          "The measurement stack (a copy).")
+      .def_property_readonly(
+          "motion", [](const A& a) { return a.visit([](const auto& f) { return py::cast(f.motion()); }); },
+          "The motion model (a copy).")
+      .def(
+          "reset",
+          [](A& a, const VecX& mean, const MatX& cov, double t0) {
+            a.visit([&](auto& f) {
+              constexpr int N = std::decay_t<decltype(f)>::N;
+              f.reset(to_gaussian<N>(mean, cov), t0);
+            });
+          },
+          py::arg("mean"), py::arg("cov"), py::arg("t0") = 0.0,
+          "Restarts from N(mean, cov) at time t0 (validated; a rejected call changes nothing).");
 }
 
 // Adapters giving the IUKF the same accessor names as the particle filters.
@@ -226,15 +264,6 @@ void bind_rbpf(py::module_& m) {
             py::arg("Y"), py::arg("O"),
             "step() over the rows of Y (T, m) and O (T, B), GIL released. Returns a dict of mean (T, n), cov "
             "(T, n, n), situation_probabilities (T, B, N_z), log_likelihood (T,).")
-        .def(
-            "reset",
-            [](A& a, const VecX& mean, const MatX& cov, double t0) {
-              a.visit([&](auto& f) {
-                constexpr int N = std::decay_t<decltype(f)>::N;
-                f.reset(to_gaussian<N>(mean, cov), t0);
-              });
-            },
-            py::arg("mean"), py::arg("cov"), py::arg("t0") = 0.0)
         .def_property_readonly(
             "num_particles",
             [](const A& a) { return a.visit([](const auto& f) { return f.num_particles(); }); })
@@ -257,8 +286,19 @@ void bind_rbpf(py::module_& m) {
         .def_property_readonly(
             "children_per_particle",
             [](const A& a) { return a.visit([](const auto& f) { return f.children_per_particle(); }); })
-        .def_property_readonly("time",
-                               [](const A& a) { return a.visit([](const auto& f) { return f.time(); }); });
+        .def(
+            "log_weight",
+            [](const A& a, int i) { return a.visit([&](const auto& f) { return f.log_weight(i); }); },
+            py::arg("i"), "Normalised log weight of particle i.")
+        .def_property_readonly(
+            "step_index", [](const A& a) { return a.visit([](const auto& f) { return f.step_index(); }); },
+            "Steps taken since the last reset.")
+        .def_property_readonly(
+            "num_anchors", [](const A& a) { return a.visit([](const auto& f) { return f.num_anchors(); }); })
+        .def_property_readonly("num_conditions", [](const A& a) {
+          return a.visit([](const auto& f) { return f.num_conditions(); });
+        });
+    particle_filter_methods<A>(c);
   }
   {
     using A = Any<PfT>;
@@ -301,6 +341,7 @@ void bind_rbpf(py::module_& m) {
         .def_property_readonly("num_particles", [](const A& a) {
           return a.visit([](const auto& f) { return f.num_particles(); });
         });
+    particle_filter_methods<A>(c);
   }
   {
     using A = Any<IukfBoxT>;
@@ -322,11 +363,54 @@ void bind_rbpf(py::module_& m) {
     summary_methods<A>(c);
     c.def(
          "step",
-         [](A& a, const VecX& y, const VecX& o) {
-           return a.visit([&](auto& f) { return f.step_quality(y, o); });
+         [](A& a, const VecX& y, const py::object& o, const py::object& sight) {
+           NLOSLOC_ENSURE(o.is_none() != sight.is_none(),
+                          "o, sight: expected exactly one of the quality statistics o or a known sight");
+           if (!o.is_none()) {
+             const auto ov = o.cast<VecX>();
+             return a.visit([&](auto& f) { return f.step_quality(y, ov); });
+           }
+           const auto s = sight.cast<VecXi>();
+           return a.visit([&](auto& f) { return f.step(y, s); });
          },
-         py::arg("y"), py::arg("o"),
-         "predict, forward filter with o (B,), update with y (m,). Returns a StepResult.")
+         py::arg("y"), py::arg("o") = py::none(), py::kw_only(), py::arg("sight") = py::none(),
+         "With o (B,): step_quality(y, o). With sight= (B,) ints: the C++ step(y, sight), a known "
+         "situation (one-hot probabilities: the plain UKF). Returns a StepResult.")
+        .def(
+            "step_quality",
+            [](A& a, const VecX& y, const VecX& o) {
+              return a.visit([&](auto& f) { return f.step_quality(y, o); });
+            },
+            py::arg("y"), py::arg("o"),
+            "predict, forward filter with o (B,), update with y (m,); a rejected call changes nothing. "
+            "Returns a StepResult.")
+        .def_property_readonly(
+            "forward",
+            [](A& a) -> situation::ForwardFilter& {
+              return a.visit([](auto& f) -> situation::ForwardFilter& { return f.forward(); });
+            },
+            py::return_value_policy::reference_internal, "The forward filter of the sight (not a copy).")
+        .def_property_readonly(
+            "measurements",
+            [](const A& a) { return a.visit([](const auto& f) { return f.measurements(); }); },
+            "The measurement stack (a copy).")
+        .def_property_readonly(
+            "scheme", [](const A& a) { return a.visit([](const auto& f) { return f.scheme(); }); },
+            "The sigma-point scheme.")
+        .def(
+            "set_belief",
+            [](A& a, const VecX& mean, const MatX& cov, std::optional<double> t) {
+              a.visit([&](auto& f) {
+                constexpr int N = std::decay_t<decltype(f)>::kDim;
+                const Gaussian<N> g = to_gaussian<N>(mean, cov, "mean", "cov");
+                if (t)
+                  f.set_belief(g, *t);
+                else
+                  f.set_belief(g);
+              });
+            },
+            py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
+            "Replaces the belief (validated: finite mean, symmetric positive definite cov).")
         .def("predict", [](A& a) { a.visit([](auto& f) { f.predict(); }); })
         .def(
             "update_with_probabilities",
@@ -351,11 +435,16 @@ void bind_rbpf(py::module_& m) {
   m.def("default_merge_threshold", &default_merge_threshold, py::arg("position_variance"),
         py::arg("num_particles"), "d_min = sigma^2 / (10 M), Huerta eq. (31).");
   m.def(
-      "merge",
+      "merge_greedy",
       [](const std::vector<std::uint64_t>& keys, const MatX& means, VecX logw, double d_min) {
         NLOSLOC_ENSURE(
             static_cast<Eigen::Index>(keys.size()) == means.cols() && logw.size() == means.cols(),
             "keys, means, logw: expected one key, one mean column and one log weight per particle");
+        nlosloc::detail::ensure_finite(means, "means");
+        NLOSLOC_ENSURE(
+            !logw.array().isNaN().any() && !(logw.array() == std::numeric_limits<double>::infinity()).any(),
+            "logw: expected log weights that are finite or -inf (no NaN, no +inf)");
+        nlosloc::detail::ensure_nonnegative(d_min, "d_min");
         MergeWorkspace ws;
         const int n = merge_greedy(
             keys.data(), logw.data(), static_cast<int>(keys.size()),
@@ -369,6 +458,8 @@ void bind_rbpf(py::module_& m) {
       "systematic_resample",
       [](const VecX& w, int M, double u0) {
         NLOSLOC_ENSURE(w.size() >= 1 && M >= 1, "w, M: expected at least one weight and M >= 1");
+        NLOSLOC_ENSURE(w.allFinite() && (w.array() >= 0.0).all() && std::abs(w.sum() - 1.0) < 1e-9,
+                       "w: expected finite weights >= 0 summing to 1");
         NLOSLOC_ENSURE(u0 > 0.0 && u0 < 1.0, "u0: expected a value in (0, 1)");
         std::vector<int> out(static_cast<std::size_t>(M));
         systematic_resample(w, static_cast<int>(w.size()), M, u0, out.data());

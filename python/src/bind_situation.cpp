@@ -29,6 +29,17 @@ void bind_situation(py::module_& m) {
       },
       py::arg("p"), py::arg("v"), py::arg("q"),
       "Transversal speed of a mobile at p with velocity v w.r.t. an anchor at q (Huerta eq. 10), m/s.");
+  m.def(
+      "transversal_speeds",
+      [](const VecX& p, const VecX& v, const MatX& anchors) {
+        NLOSLOC_ENSURE(p.size() == v.size(), "p, v: expected vectors of the same size");
+        nlosloc::detail::ensure_shape(anchors, -1, p.size(), "anchors");
+        VecX out(anchors.rows());
+        transversal_speeds(p, v, anchors, out);
+        return out;
+      },
+      py::arg("p"), py::arg("v"), py::arg("anchors"),
+      "Transversal speed (Huerta eq. 10) w.r.t. every anchor (rows of anchors (B, D)), shape (B,).");
   m.def("speed_transition_single", &speed_transition_single, py::arg("w"), py::arg("dt"), py::arg("mean_los"),
         py::arg("mean_nlos"), "2x2 [LOS, NLOS] transition matrix of Huerta eq. (15).");
   m.def("speed_transition_multiple", &speed_transition_multiple, py::arg("w"), py::arg("dt"),
@@ -56,6 +67,12 @@ void bind_situation(py::module_& m) {
       .def_property_readonly("k_sight", &SightModel::k_sight)
       .def_property_readonly("base_matrix", &SightModel::base_matrix)
       .def_property_readonly("initial", &SightModel::initial)
+      .def_property_readonly("mean_los", &SightModel::mean_los, "Mean LOS length (m); 0 for a fixed chain.")
+      .def_property_readonly("mean_nlos", &SightModel::mean_nlos,
+                             "Mean NLOS length (m); 0 for a fixed chain.")
+      .def_property_readonly("dt", &SightModel::dt,
+                             "Interval (s) of a speed-dependent chain; 0 for a fixed one.")
+      .def_property_readonly("form", &SightModel::form, "Form of a speed-dependent chain.")
       .def("is_change_step", &SightModel::is_change_step, py::arg("k"))
       .def(
           "transition", [](const SightModel& s, long k, double w) { return s.transition(k, w); },
@@ -64,6 +81,19 @@ void bind_situation(py::module_& m) {
       .def("sample_next", &SightModel::sample_next, py::arg("current"), py::arg("k"), py::arg("w"),
            py::arg("rng"), "Draws s_k given s_{k-1} = current.")
       .def("sample_initial", &SightModel::sample_initial, py::arg("rng"));
+
+  m.def(
+      "speed_switch_probability",
+      [](const SightModel& model, int current, double w) {
+        NLOSLOC_ENSURE(model.speed_dependent(), "model: expected a speed-dependent chain");
+        NLOSLOC_ENSURE(current == 0 || current == 1,
+                       "current: expected 0 (LOS) or 1 (NLOS), got " + std::to_string(current));
+        nlosloc::detail::ensure_nonnegative(w, "w");
+        return speed_switch_probability(model, current, w);
+      },
+      py::arg("model"), py::arg("current"), py::arg("w"),
+      "Probability that a speed-dependent chain leaves `current` in one interval at transversal speed w "
+      "(the off-diagonal entry of eq. 15, 17 or 18, in closed form).");
 
   py::class_<SightProcess>(m, "SightProcess", "Independent sight chains of B anchors (Huerta eq. 9).")
       .def(py::init<std::vector<SightModel>>(), py::arg("models"))
@@ -88,6 +118,18 @@ void bind_situation(py::module_& m) {
           "log_likelihood", [](const QualityModel& q, double o, int z) { return q.log_likelihood(o, z); },
           py::arg("o"), py::arg("z"), "log p(o | s = z); 0 for NaN (missing).")
       .def(
+          "log_likelihood",
+          [](const QualityModel& q, const VecX& o, const VecXi& s) { return q.log_likelihood(o, s); },
+          py::arg("o"), py::arg("s"), "log p(o | s) = sum_b log p(o_b | s_b) for o (B,) and s (B,).")
+      .def(
+          "log_likelihoods",
+          [](const QualityModel& q, double o) {
+            VecX out(q.num_conditions());
+            q.log_likelihoods(o, out);
+            return out;
+          },
+          py::arg("o"), "log p(o | s = z) for every z, shape (N_z,).")
+      .def(
           "log_likelihood_table",
           [](const QualityModel& q, const VecX& o) {
             MatX out;
@@ -110,12 +152,20 @@ void bind_situation(py::module_& m) {
       .def_property_readonly("num_anchors", &ForwardFilter::num_anchors)
       .def_property_readonly("num_conditions", &ForwardFilter::num_conditions)
       .def_property_readonly("step_index", &ForwardFilter::step_index)
+      .def_property_readonly("process", &ForwardFilter::process, py::return_value_policy::copy,
+                             "The sight chains (a copy).")
+      .def_property_readonly("quality", &ForwardFilter::quality, py::return_value_policy::copy,
+                             "The quality likelihoods (a copy).")
+      .def_property_readonly("last_log_evidence", &ForwardFilter::last_log_evidence,
+                             "log p(o_t | o_1:t-1) of the last update.")
       .def("reset", &ForwardFilter::reset)
-      .def("set_probabilities", &ForwardFilter::set_probabilities, py::arg("gamma"))
+      .def("set_probabilities", &ForwardFilter::set_probabilities, py::arg("gamma"),
+           "Replaces the probabilities (B, N_z) (rows >= 0 summing to 1); also the prior of the next update.")
       .def("predict", &ForwardFilter::predict, py::arg("speeds") = VecX(), "Prediction, eq. (36).")
       .def("update", &ForwardFilter::update, py::arg("o"),
            "Update with o (B,) (NaN = missing), eqs. (37)-(38); returns log p(o_t | o_1:t-1).")
-      .def("step", &ForwardFilter::step, py::arg("o"), py::arg("speeds") = VecX())
+      .def("step", &ForwardFilter::step, py::arg("o"), py::arg("speeds") = VecX(),
+           "predict(speeds) then update(o); a rejected call changes nothing.")
       .def_property_readonly("probabilities", &ForwardFilter::probabilities, "(B, N_z) P(s_b = z | o_b,1:t).")
       .def_property_readonly("predicted", &ForwardFilter::predicted)
       .def("argmax", &ForwardFilter::argmax)

@@ -23,7 +23,8 @@ PYBIND11_MODULE(_core, m) {
   auto situation =
       m.def_submodule("situation", "Sight (LOS/NLOS) Markov models, quality likelihoods, HMM filter.");
   bind_situation(situation);
-  auto filters = m.def_submodule("filters", "Estimators: KF, EKF, UKF, IUKF, particle filters.");
+  auto filters = m.def_submodule(
+      "filters", "Estimators: KF, EKF, UKF (the IUKF and the particle filters: nlosloc.rbpf).");
   bind_filters(filters);
   auto rbpf = m.def_submodule("rbpf", "Rao-Blackwellized particle filters with merge/prune, joint PF.");
   bind_rbpf(rbpf);

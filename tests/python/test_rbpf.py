@@ -92,12 +92,30 @@ def test_particle_filter_and_iukf():
     res = iukf.run(Y, Q_obs)
     assert np.all(np.isfinite(res["mean"]))
     assert iukf.situation_probabilities.shape == (6, 2)
+    # the forward filter is the IUKF's own (not a copy); step_quality is step(y, o)
+    np.testing.assert_array_equal(iukf.forward.probabilities, iukf.situation_probabilities)
+    twin = rbpf.Iukf(MOTION, stack(), SIGHT, QUALITY, X0, P0)
+    twin.run(Y, Q_obs)
+    r1, r2 = iukf.step(Y[0], Q_obs[0]), twin.step_quality(Y[0], Q_obs[0])
+    assert r1.log_likelihood == r2.log_likelihood
+    np.testing.assert_array_equal(iukf.mean, twin.mean)
+    assert iukf.time == pytest.approx(0.01 * (len(Y) + 1))
+    assert iukf.scheme is not None and iukf.measurements.rows == 6
+    # a known situation: the plain UKF step
+    mean, cov = iukf.belief()
+    np.testing.assert_array_equal(mean, iukf.estimate)
+    with pytest.raises(ValueError, match=r"^o, sight: expected exactly one"):
+        iukf.step(Y[0])
+    iukf.step(Y[0], sight=np.zeros(6, dtype=np.int32))
+    iukf.set_belief(mean, cov, 0.0)
+    np.testing.assert_array_equal(iukf.mean, mean)
+    assert iukf.time == 0.0
 
 
 def test_merge_and_resampling_helpers():
     logw = np.log([0.1, 0.3, 0.2, 0.25, 0.15])
     means = np.array([[0.0, 0.05, 0.5, 0.01, 0.09]])
-    new, n = rbpf.merge([0, 0, 0, 1, 0], means, logw, 0.1)
+    new, n = rbpf.merge_greedy([0, 0, 0, 1, 0], means, logw, 0.1)
     assert n == 2
     np.testing.assert_allclose(np.exp(new), [0.0, 0.55, 0.2, 0.25, 0.0], atol=1e-14)
     assert rbpf.default_merge_threshold(12.8, 128) == pytest.approx(0.01)
@@ -108,6 +126,16 @@ def test_merge_and_resampling_helpers():
         counts += np.bincount(rbpf.systematic_resample(w, 7, max(u, 1e-12)), minlength=5)
     np.testing.assert_allclose(counts / 20000, 7 * w, atol=0.02)
     assert rbpf.situation_count(2, 6) == 64
+    with pytest.raises(ValueError, match=r"^num_conditions: expected an integer >= 1, got 0"):
+        rbpf.situation_count(0, 3)
+    with pytest.raises(ValueError, match=r"^num_anchors: expected an integer >= 0, got -1"):
+        rbpf.situation_count(2, -1)
+    with pytest.raises(ValueError, match=r"^d_min: expected a finite value >= 0"):
+        rbpf.merge_greedy([0, 0], np.array([[0.0, 0.1]]), np.array([0.0, -1.0]), -1.0)
+    with pytest.raises(ValueError, match=r"^logw: expected log weights that are finite or -inf"):
+        rbpf.merge_greedy([0, 0], np.array([[0.0, 0.1]]), np.array([np.nan, -1.0]), 1.0)
+    with pytest.raises(ValueError, match=r"^w: expected finite weights >= 0 summing to 1"):
+        rbpf.systematic_resample(np.array([-1.0, 2.0]), 4, 0.5)
 
 
 def test_gcrb_below_crb():
@@ -164,3 +192,39 @@ def test_rbpf_augmented_noise_form_matches_ukf_augmented():
     add = run(filters.NoiseForm.Additive)
     assert np.max(np.abs(np.sort(add.weights) - np.sort(f.weights))) > 1e-3
     assert rbpf.RbpfOptions().noise_form == filters.NoiseForm.Additive
+
+
+def test_particle_filters_accessors_and_rejected_steps():
+    Y, Q_obs, _, _ = track(steps=5, seed=3)
+    opts = rbpf.RbpfOptions(num_particles=8)
+    f = rbpf.Rbpf(MOTION, stack(), SIGHT, QUALITY, X0, P0, opts)
+    f.run(Y, Q_obs)
+    assert (f.step_index, f.num_anchors, f.num_conditions) == (5, 6, 2)
+    assert f.options.num_particles == 8 and f.measurements.rows == 6
+    assert f.motion.dt == pytest.approx(0.01)
+    w = f.weights
+    lw = np.array([f.log_weight(i) for i in range(f.num_particles)])
+    np.testing.assert_allclose(np.exp(lw), w, rtol=1e-12, atol=0.0)
+    mean, cov = f.belief()
+    np.testing.assert_array_equal(mean, f.estimate)
+    before = f.estimate.copy()
+    with pytest.raises(ValueError, match=r"^o: statistic of anchor 2 has zero density"):
+        f.step(Y[0], np.r_[Q_obs[0][:2], 1.5, Q_obs[0][3:]])
+    with pytest.raises(ValueError, match=r"^o: expected finite statistics, or NaN"):
+        f.step(Y[0], np.r_[np.inf, Q_obs[0][1:]])
+    np.testing.assert_array_equal(f.estimate, before)
+    assert f.step_index == 5
+    pf = rbpf.ParticleFilter(
+        MOTION, stack(), SIGHT, QUALITY, X0, P0, rbpf.PfOptions(num_particles=500, seed=2)
+    )
+    pf.run(Y, Q_obs)
+    parts = pf.particles.copy()
+    bad = Y[0].copy()
+    bad[0] = -1e200  # zero likelihood for every particle: rejected, nothing moves
+    with pytest.raises(RuntimeError, match="every particle has zero likelihood"):
+        pf.step(bad, Q_obs[0])
+    np.testing.assert_array_equal(pf.particles, parts)
+    assert pf.options.num_particles == 500 and pf.time == pytest.approx(0.05)
+    pf.reset(X0, P0)
+    assert pf.time == 0.0
+    np.testing.assert_allclose(pf.estimate, X0, atol=1.0)

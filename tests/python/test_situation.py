@@ -21,8 +21,16 @@ def test_speed_transitions_hand_values():
     assert situation.transversal_speed(
         np.array([100.0, 0.0]), np.array([3.0, 4.0]), np.zeros(2)
     ) == pytest.approx(4.0)
-    with pytest.raises(ValueError, match="w"):
+    with pytest.raises(ValueError, match=r"^w: expected a finite value >= 0, got -1"):
         situation.speed_transition_single(-1.0, 0.01, 30.0, 5.0)
+    anchors = np.array([[0.0, 0.0], [100.0, 100.0]])
+    np.testing.assert_allclose(
+        situation.transversal_speeds(np.array([100.0, 0.0]), np.array([3.0, 4.0]), anchors),
+        [4.0, 3.0],
+        rtol=1e-14,
+    )
+    with pytest.raises(ValueError, match=r"^anchors: expected shape \(-1, 2\), got \(2, 3\)"):
+        situation.transversal_speeds(np.zeros(2), np.zeros(2), np.zeros((2, 3)))
 
 
 def test_sight_model_and_process():
@@ -38,6 +46,27 @@ def test_sight_model_and_process():
         situation.SightModel.fixed(np.array([[0.5, 0.4], [0.1, 0.9]]))
     sp = situation.SightModel.speed_dependent(30.0, 5.0, 0.01, situation.SpeedModel.Multiple)
     assert sp.is_speed_dependent
+    assert (sp.mean_los, sp.mean_nlos, sp.dt, sp.form) == (
+        30.0,
+        5.0,
+        0.01,
+        situation.SpeedModel.Multiple,
+    )
+    # closed-form switch probability = off-diagonal of eq. (17)
+    assert situation.speed_switch_probability(sp, 0, 10.0) == pytest.approx(
+        sp.transition(1, 10.0)[0, 1]
+    )
+    assert situation.speed_switch_probability(sp, 1, 10.0) == pytest.approx(
+        sp.transition(1, 10.0)[1, 0]
+    )
+    with pytest.raises(ValueError, match=r"^model: expected a speed-dependent chain"):
+        situation.speed_switch_probability(m, 0, 1.0)
+    with pytest.raises(ValueError, match=r"^current: expected 0 \(LOS\) or 1 \(NLOS\), got 2"):
+        situation.speed_switch_probability(sp, 2, 1.0)
+    # a reducible chain (T = I) has no unique stationary vector: the uniform prior
+    np.testing.assert_allclose(situation.SightModel.fixed(np.eye(2)).initial, [0.5, 0.5])
+    with pytest.raises(ValueError, match=r"^num_anchors: expected an integer >= 1, got 0"):
+        situation.SightProcess(sp, 0)
     proc = situation.SightProcess(sp, 4)
     rng = core.Rng(3)
     s0 = proc.sample_initial(rng)
@@ -58,8 +87,11 @@ def test_forward_filter_hand_calculation():
     assert f.probabilities[0, 0] == pytest.approx(g0, abs=1e-14)
     f.step(np.array([np.nan]))
     assert f.probabilities[0, 0] == pytest.approx(0.9 * g0 + 0.2 * (1 - g0), abs=1e-14)
-    with pytest.raises(ValueError, match="o"):
+    with pytest.raises(ValueError, match=r"^o: expected shape \(1, 1\), got \(2, 1\)"):
         f.update(np.zeros(2))
+    assert f.last_log_evidence == pytest.approx(0.0)  # the missing statistic carried no evidence
+    assert f.process.num_anchors == 1
+    assert f.quality.num_conditions == 2
     # save / restore undoes steps exactly; a snapshot of another size is refused
     snap = f.save()
     before = f.probabilities.copy()
@@ -80,3 +112,46 @@ def test_quality_model_empirical():
     assert table.shape == (3, 2)
     assert table[0, 0] > table[0, 1] and table[1, 1] > table[1, 0]
     np.testing.assert_array_equal(table[2], [0.0, 0.0])
+
+
+def test_forward_filter_rejected_calls_change_nothing():
+    sp = situation.SightModel.speed_dependent(30.0, 5.0, 0.1)
+    qm = situation.QualityModel([noise.Beta(4.0, 1.5), noise.Beta(1.5, 4.0)])
+    f = situation.ForwardFilter(situation.SightProcess(sp, 2), qm)
+    f.step(np.array([0.9, 0.2]), np.array([3.0, 1.0]))
+    before = (f.probabilities.copy(), f.predicted.copy(), f.step_index, f.last_log_evidence)
+
+    def same():
+        np.testing.assert_array_equal(f.probabilities, before[0])
+        np.testing.assert_array_equal(f.predicted, before[1])
+        assert (f.step_index, f.last_log_evidence) == before[2:]
+
+    with pytest.raises(ValueError, match=r"^o: expected shape \(2, 1\), got \(1, 1\)"):
+        f.step(np.zeros(1), np.array([3.0, 1.0]))
+    same()
+    with pytest.raises(ValueError, match=r"^speeds: expected finite values >= 0, got -1"):
+        f.predict(np.array([3.0, -1.0]))
+    same()
+    with pytest.raises(ValueError, match=r"^o: statistic of anchor 1 has zero density"):
+        f.step(np.array([0.9, 7.0]), np.array([3.0, 1.0]))
+    same()
+    with pytest.raises(ValueError, match=r"^o: statistic of anchor 1 has zero density"):
+        f.update(np.array([0.1, 7.0]))  # anchor 0 is not updated either
+    same()
+    with pytest.raises(ValueError, match=r"^o: expected finite statistics, or NaN"):
+        f.update(np.array([0.1, np.inf]))
+    same()
+    # set_probabilities is the prior of the next update
+    f.set_probabilities(np.array([[0.0, 1.0], [0.0, 1.0]]))
+    f.update(np.array([0.8, 0.8]))
+    np.testing.assert_array_equal(f.probabilities, [[0.0, 1.0], [0.0, 1.0]])
+
+
+def test_quality_model_vector_forms():
+    qm = situation.QualityModel([noise.Normal(1.0, 0.5), noise.Normal(0.0, 0.5)])
+    l0 = -0.5 * 0.04 / 0.25 - math.log(0.5 * math.sqrt(2 * math.pi))
+    l1 = -0.5 * 0.64 / 0.25 - math.log(0.5 * math.sqrt(2 * math.pi))
+    np.testing.assert_allclose(qm.log_likelihoods(0.8), [l0, l1], rtol=1e-14)
+    assert qm.log_likelihood(np.array([0.8, 0.8, np.nan]), np.array([0, 1, 1])) == pytest.approx(
+        l0 + l1
+    )

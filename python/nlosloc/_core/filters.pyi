@@ -1,5 +1,5 @@
 """
-Estimators: KF, EKF, UKF, IUKF, particle filters.
+Estimators: KF, EKF, UKF (the IUKF and the particle filters: nlosloc.rbpf).
 """
 from __future__ import annotations
 import nlosloc._core.core

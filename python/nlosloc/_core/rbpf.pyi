@@ -10,7 +10,7 @@ import nlosloc._core.situation
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfStepInfo', 'RbpfVariant', 'default_merge_threshold', 'merge', 'situation_count', 'systematic_resample']
+__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfStepInfo', 'RbpfVariant', 'default_merge_threshold', 'merge_greedy', 'situation_count', 'systematic_resample']
 class RbpfVariant:
     """
     Order of the RBPF iteration.
@@ -244,6 +244,14 @@ class Rbpf:
     """
     def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, sight: nlosloc._core.situation.SightProcess, quality: nlosloc._core.situation.QualityModel, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: RbpfOptions = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         ...
+    def belief(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        The Gaussian summary as a tuple (mean (n,), cov (n, n)).
+        """
+    def log_weight(self, i: typing.SupportsInt | typing.SupportsIndex) -> float:
+        """
+        Normalised log weight of particle i.
+        """
     def particle_cov(self, i: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
     def particle_mean(self, i: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
@@ -251,7 +259,9 @@ class Rbpf:
     def particle_situation(self, i: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         ...
     def reset(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
-        ...
+        """
+        Restarts from N(mean, cov) at time t0 (validated; a rejected call changes nothing).
+        """
     def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], O: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> dict:
         """
         step() over the rows of Y (T, m) and O (T, B), GIL released. Returns a dict of mean (T, n), cov (T, n, n), situation_probabilities (T, B, N_z), log_likelihood (T,).
@@ -278,16 +288,44 @@ class Rbpf:
         State estimate (n,) (Huerta eq. 28 for the RBPF).
         """
     @property
+    def measurements(self) -> nlosloc._core.models.MeasurementStack:
+        """
+        The measurement stack (a copy).
+        """
+    @property
+    def motion(self) -> typing.Any:
+        """
+        The motion model (a copy).
+        """
+    @property
+    def num_anchors(self) -> int:
+        ...
+    @property
+    def num_conditions(self) -> int:
+        ...
+    @property
     def num_particles(self) -> int:
         ...
+    @property
+    def options(self) -> RbpfOptions:
+        """
+        The settings (a copy).
+        """
     @property
     def situation_probabilities(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         (B, N_z) P(s_b = z | data).
         """
     @property
+    def step_index(self) -> int:
+        """
+        Steps taken since the last reset.
+        """
+    @property
     def time(self) -> float:
-        ...
+        """
+        Time of the estimate (s).
+        """
     @property
     def weights(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
@@ -297,6 +335,14 @@ class ParticleFilter:
     """
     def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, sight: nlosloc._core.situation.SightProcess, quality: nlosloc._core.situation.QualityModel, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: PfOptions = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         ...
+    def belief(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        The Gaussian summary as a tuple (mean (n,), cov (n, n)).
+        """
+    def reset(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        """
+        Restarts from N(mean, cov) at time t0 (validated; a rejected call changes nothing).
+        """
     def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], O: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> dict:
         """
         As Rbpf.run.
@@ -321,8 +367,23 @@ class ParticleFilter:
     def log_weights(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
     @property
+    def measurements(self) -> nlosloc._core.models.MeasurementStack:
+        """
+        The measurement stack (a copy).
+        """
+    @property
+    def motion(self) -> typing.Any:
+        """
+        The motion model (a copy).
+        """
+    @property
     def num_particles(self) -> int:
         ...
+    @property
+    def options(self) -> PfOptions:
+        """
+        The settings (a copy).
+        """
     @property
     def particles(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
@@ -336,25 +397,42 @@ class ParticleFilter:
     @property
     def situations(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
         ...
+    @property
+    def time(self) -> float:
+        """
+        Time of the estimate (s).
+        """
 class Iukf:
     """
     Improved UKF (Huerta Table VI, N_z conditions as Grisales eqs. 36-37): per-anchor forward filter on the quality statistics, one noise set per condition weighted by its probabilities.
     """
     def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, sight: nlosloc._core.situation.SightProcess, quality: nlosloc._core.situation.QualityModel, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], scheme: nlosloc._core.core.SigmaScheme = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         ...
+    def belief(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        The Gaussian summary as a tuple (mean (n,), cov (n, n)).
+        """
     def predict(self) -> None:
         ...
     def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], O: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> dict:
         """
         As Rbpf.run.
         """
+    def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex | None = None) -> None:
+        """
+        Replaces the belief (validated: finite mean, symmetric positive definite cov).
+        """
     def sight_estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         """
         Most probable condition per anchor (B,).
         """
-    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> nlosloc._core.filters.StepResult:
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Any = None, *, sight: typing.Any = None) -> nlosloc._core.filters.StepResult:
         """
-        predict, forward filter with o (B,), update with y (m,). Returns a StepResult.
+        With o (B,): step_quality(y, o). With sight= (B,) ints: the C++ step(y, sight), a known situation (one-hot probabilities: the plain UKF). Returns a StepResult.
+        """
+    def step_quality(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> nlosloc._core.filters.StepResult:
+        """
+        predict, forward filter with o (B,), update with y (m,); a rejected call changes nothing. Returns a StepResult.
         """
     def update_with_probabilities(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], gamma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> nlosloc._core.filters.StepResult:
         """
@@ -374,18 +452,38 @@ class Iukf:
         State estimate (n,) (Huerta eq. 28 for the RBPF).
         """
     @property
+    def forward(self) -> nlosloc._core.situation.ForwardFilter:
+        """
+        The forward filter of the sight (not a copy).
+        """
+    @property
     def mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
+    @property
+    def measurements(self) -> nlosloc._core.models.MeasurementStack:
+        """
+        The measurement stack (a copy).
+        """
+    @property
+    def scheme(self) -> nlosloc._core.core.SigmaScheme:
+        """
+        The sigma-point scheme.
+        """
     @property
     def situation_probabilities(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         (B, N_z) P(s_b = z | data).
         """
+    @property
+    def time(self) -> float:
+        """
+        Time of the estimate (s).
+        """
 def default_merge_threshold(position_variance: typing.SupportsFloat | typing.SupportsIndex, num_particles: typing.SupportsInt | typing.SupportsIndex) -> float:
     """
     d_min = sigma^2 / (10 M), Huerta eq. (31).
     """
-def merge(keys: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], d_min: typing.SupportsFloat | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], int]:
+def merge_greedy(keys: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], d_min: typing.SupportsFloat | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], int]:
     """
     Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, number absorbed).
     """

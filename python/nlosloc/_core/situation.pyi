@@ -8,7 +8,7 @@ import nlosloc._core.noise
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['ForwardFilter', 'ForwardFilterSnapshot', 'QualityModel', 'SightModel', 'SightProcess', 'SpeedModel', 'speed_transition_memoryless', 'speed_transition_multiple', 'speed_transition_single', 'transversal_speed']
+__all__: list[str] = ['ForwardFilter', 'ForwardFilterSnapshot', 'QualityModel', 'SightModel', 'SightProcess', 'SpeedModel', 'speed_switch_probability', 'speed_transition_memoryless', 'speed_transition_multiple', 'speed_transition_single', 'transversal_speed', 'transversal_speeds']
 class SpeedModel:
     """
     Form of the speed-dependent two-state chain.
@@ -89,6 +89,16 @@ class SightModel:
     def base_matrix(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
     @property
+    def dt(self) -> float:
+        """
+        Interval (s) of a speed-dependent chain; 0 for a fixed one.
+        """
+    @property
+    def form(self) -> SpeedModel:
+        """
+        Form of a speed-dependent chain.
+        """
+    @property
     def initial(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
     @property
@@ -97,6 +107,16 @@ class SightModel:
     @property
     def k_sight(self) -> int:
         ...
+    @property
+    def mean_los(self) -> float:
+        """
+        Mean LOS length (m); 0 for a fixed chain.
+        """
+    @property
+    def mean_nlos(self) -> float:
+        """
+        Mean NLOS length (m); 0 for a fixed chain.
+        """
     @property
     def num_conditions(self) -> int:
         ...
@@ -139,13 +159,23 @@ class QualityModel:
         ...
     def distribution(self, z: typing.SupportsInt | typing.SupportsIndex) -> nlosloc._core.noise.Distribution:
         ...
+    @typing.overload
     def log_likelihood(self, o: typing.SupportsFloat | typing.SupportsIndex, z: typing.SupportsInt | typing.SupportsIndex) -> float:
         """
         log p(o | s = z); 0 for NaN (missing).
         """
+    @typing.overload
+    def log_likelihood(self, o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], s: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> float:
+        """
+        log p(o | s) = sum_b log p(o_b | s_b) for o (B,) and s (B,).
+        """
     def log_likelihood_table(self, o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         (B, N_z) table of log p(o_b | s_b = z).
+        """
+    def log_likelihoods(self, o: typing.SupportsFloat | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        log p(o | s = z) for every z, shape (N_z,).
         """
     def sample(self, s: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], rng: nlosloc._core.core.Rng) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
@@ -201,12 +231,21 @@ class ForwardFilter:
         Snapshot of the mutable state (probabilities, step, evidence), to undo steps with restore().
         """
     def set_probabilities(self, gamma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> None:
-        ...
+        """
+        Replaces the probabilities (B, N_z) (rows >= 0 summing to 1); also the prior of the next update.
+        """
     def step(self, o: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], speeds: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"] = ...) -> float:
-        ...
+        """
+        predict(speeds) then update(o); a rejected call changes nothing.
+        """
     def update(self, o: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> float:
         """
         Update with o (B,) (NaN = missing), eqs. (37)-(38); returns log p(o_t | o_1:t-1).
+        """
+    @property
+    def last_log_evidence(self) -> float:
+        """
+        log p(o_t | o_1:t-1) of the last update.
         """
     @property
     def num_anchors(self) -> int:
@@ -223,8 +262,22 @@ class ForwardFilter:
         (B, N_z) P(s_b = z | o_b,1:t).
         """
     @property
+    def process(self) -> SightProcess:
+        """
+        The sight chains (a copy).
+        """
+    @property
+    def quality(self) -> QualityModel:
+        """
+        The quality likelihoods (a copy).
+        """
+    @property
     def step_index(self) -> int:
         ...
+def speed_switch_probability(model: SightModel, current: typing.SupportsInt | typing.SupportsIndex, w: typing.SupportsFloat | typing.SupportsIndex) -> float:
+    """
+    Probability that a speed-dependent chain leaves `current` in one interval at transversal speed w (the off-diagonal entry of eq. 15, 17 or 18, in closed form).
+    """
 def speed_transition_memoryless(mean_los: typing.SupportsFloat | typing.SupportsIndex, mean_nlos: typing.SupportsFloat | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[2, 2]"]:
     """
     2x2 memoryless matrix of Huerta eq. (18), rows (p_L, p_N).
@@ -240,4 +293,8 @@ def speed_transition_single(w: typing.SupportsFloat | typing.SupportsIndex, dt: 
 def transversal_speed(p: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> float:
     """
     Transversal speed of a mobile at p with velocity v w.r.t. an anchor at q (Huerta eq. 10), m/s.
+    """
+def transversal_speeds(p: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Transversal speed (Huerta eq. 10) w.r.t. every anchor (rows of anchors (B, D)), shape (B,).
     """
