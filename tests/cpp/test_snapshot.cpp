@@ -2,6 +2,7 @@
 // on a range + bearing pair, and CHEN / CONG / URR on hand-built geometries with known NLOS anchors.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "nlosloc/snapshot/snapshot.hpp"
@@ -110,6 +111,60 @@ TEST_CASE("LosSolver: argument checks name the argument", "[snapshot]") {
                     Catch::Matchers::Contains("theta0"));
   CHECK_THROWS_WITH(Chen(st, ChenOptions{-1, 1.0}), Catch::Matchers::Contains("reject_fraction"));
   CHECK_THROWS_WITH(subsets_at_least(21, 1), Catch::Matchers::Contains("num_anchors"));
+}
+
+TEST_CASE("LosSolver and MleLos: short y / use / noise are rejected before any row is read", "[snapshot]") {
+  const MeasurementStack st = rtoa_stack();
+  LosSolver s(st);
+  const VecX y5 = VecX::Zero(5), y6 = VecX::Constant(6, 3000.0);
+  const std::vector<char> use5(5, 1), use6(6, 1);
+  Theta t;
+  CHECK_THROWS_WITH(s.linear_start(y5, use6, t), "y: expected shape (6, 1), got (5, 1)");
+  CHECK_THROWS_WITH(s.linear_start(y6, use5, t), "use: expected one flag per row (6), got 5");
+  CHECK_THROWS_WITH(s.cost(y5, Theta::Zero(3), use6, s.los_noise()), "y: expected shape (6, 1), got (5, 1)");
+  CHECK_THROWS_WITH(s.cost(y6, Theta::Zero(3), use5, s.los_noise()),
+                    "use: expected one flag per row (6), got 5");
+  const std::vector<RowNoise> noise5(5);
+  CHECK_THROWS_WITH(s.cost(y6, Theta::Zero(3), use6, noise5),
+                    "noise: expected one RowNoise per row (6), got 5");
+  CHECK_THROWS_WITH(s.cost(y6, Theta::Zero(2), use6, s.los_noise()),
+                    "theta: expected shape (3, 1), got (2, 1)");
+  CHECK_THROWS_WITH(s.solve(y6, Theta::Zero(3), use6, noise5),
+                    "noise: expected one RowNoise per row (6), got 5");
+  VecX r;
+  CHECK_THROWS_WITH(s.residuals(y5, Theta::Zero(3), r), "y: expected shape (6, 1), got (5, 1)");
+  MleLos mle(st);
+  CHECK_THROWS_WITH(mle.solve(y5), "y: expected shape (6, 1), got (5, 1)");
+  // the checked cost is the sum of squared normalised residuals: y = 3000 + 1 on every row at the centre
+  // (each anchor 3000 m away, clock 0), LOS sigma sqrt(10): 6 * 1 / 10
+  CHECK_THAT(s.cost(VecX::Constant(6, 3001.0), Theta::Zero(3), use6, s.los_noise()), WithinAbs(0.6, 1e-9));
+}
+
+TEST_CASE("RowNoise: non-finite centres and non-positive sigmas are rejected", "[snapshot]") {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH(RowNoise::gaussian(nan, 1.0), "RowNoise.center: expected a finite value, got nan");
+  CHECK_THROWS_WITH(RowNoise::gaussian(0.0, 0.0),
+                    "RowNoise.sigma_left: expected a finite value > 0, got 0.000000");
+  CHECK_THROWS_WITH(RowNoise::gaussian(0.0, std::numeric_limits<double>::infinity()),
+                    "RowNoise.sigma_left: expected a finite value > 0, got inf");
+  CHECK(RowNoise::gaussian(1.0, 2.0).valid());
+  CHECK_FALSE((RowNoise{0.0, 1.0, -1.0}.valid()));
+  // solve() checks every row's model and names the row
+  const MeasurementStack st = rtoa_stack();
+  LosSolver s(st);
+  const VecX y = VecX::Constant(6, 3000.0);
+  std::vector<RowNoise> nz = s.los_noise();
+  nz[3].sigma_right = nan;
+  CHECK_THROWS_WITH(s.solve(y, Theta::Zero(3), std::vector<char>(6, 1), nz),
+                    "noise[3].sigma_right: expected a finite value > 0, got nan");
+  nz[3].sigma_right = 1.0;
+  nz[4].center = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(s.solve(y, Theta::Zero(3), std::vector<char>(6, 1), nz),
+                    "noise[4].center: expected a finite value, got inf");
+  nz[4].center = 0.0;
+  nz[0].sigma_left = 0.0;
+  CHECK_THROWS_WITH(s.solve(y, Theta::Zero(3), std::vector<char>(6, 1), nz),
+                    "noise[0].sigma_left: expected a finite value > 0, got 0.000000");
 }
 
 TEST_CASE("subsets_at_least enumerates larger sets first", "[snapshot]") {

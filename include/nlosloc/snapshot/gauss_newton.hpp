@@ -35,11 +35,31 @@ struct RowNoise {
   double sigma_left = 1.0;   ///< standard deviation left of the center (> 0)
   double sigma_right = 1.0;  ///< standard deviation right of the center (> 0)
 
-  /// Gaussian N(mean, std^2).
-  static RowNoise gaussian(double mean, double std) { return {mean, std, std}; }
+  /// Gaussian N(mean, std^2): mean finite, std finite > 0.
+  static RowNoise gaussian(double mean, double std) {
+    const RowNoise r{mean, std, std};
+    r.check("RowNoise");
+    return r;
+  }
   /// Cong & Zhuang 2005 asymmetric (split) Gaussian.
   static RowNoise split(const noise::AsymmetricNormal& a) {
-    return {a.mode(), a.sigma_left(), a.sigma_right()};
+    const RowNoise r{a.mode(), a.sigma_left(), a.sigma_right()};
+    r.check("RowNoise");
+    return r;
+  }
+  /// True when center is finite and both sigmas are finite > 0 (a NaN or zero sigma makes the cost NaN
+  /// or infinite and the fix meaningless).
+  bool valid() const {
+    return std::isfinite(center) && sigma_left > 0.0 && std::isfinite(sigma_left) && sigma_right > 0.0 &&
+           std::isfinite(sigma_right);
+  }
+  /// Throws unless valid(); `name` prefixes the field named in the message.
+  void check(const std::string& name) const {
+    if (!std::isfinite(center))
+      detail::throw_invalid_argument(name + ".center: expected a finite value, got " +
+                                     std::to_string(center));
+    detail::ensure_positive(sigma_left, (name + ".sigma_left").c_str());
+    detail::ensure_positive(sigma_right, (name + ".sigma_right").c_str());
   }
   /// Normalised residual (r - c)/s with the side's sigma.
   double normalized(double r) const { return (r - center) / (r < center ? sigma_left : sigma_right); }
@@ -146,6 +166,8 @@ class LosSolver {
 
   /// Residuals r = y - g(theta) of every row (angle rows wrapped) into `r` (size rows()).
   void residuals(const Eigen::Ref<const VecX>& y, const Theta& theta, VecX& r) const {
+    detail::ensure_shape(y, stack_.rows(), 1, "y");
+    detail::ensure_shape(theta, n_, 1, "theta");
     set_x(theta);
     stack_.predict(x_, 0.0, g_);
     r = y - g_;
@@ -155,28 +177,21 @@ class LosSolver {
   /// Cost sum_i ((r_i - c_i)/s_i)^2 over the rows with use[i] true (and y finite).
   double cost(const Eigen::Ref<const VecX>& y, const Theta& theta, const std::vector<char>& use,
               const std::vector<RowNoise>& noise) const {
-    set_x(theta);
-    stack_.predict(x_, 0.0, g_);
-    r_ = y - g_;
-    stack_.wrap_residual(r_);
-    double c = 0.0;
-    for (int i = 0; i < stack_.rows(); ++i)
-      if (use[static_cast<std::size_t>(i)] && !std::isnan(y[i])) {
-        const double z = noise[static_cast<std::size_t>(i)].normalized(r_[i]);
-        c += z * z;
-      }
-    return c;
+    check_rows(y, use, &noise);
+    detail::ensure_shape(theta, n_, 1, "theta");
+    return cost_unchecked(y, theta, use, noise);
   }
 
   /// Fix from the rows with use[i] true (rows whose y is NaN are skipped) with per-row noise models
-  /// `noise` (size rows()), starting at theta0 (size unknowns()).
+  /// `noise` (size rows(), each RowNoise::valid()), starting at theta0 (size unknowns()).
   Fix solve(const Eigen::Ref<const VecX>& y, const Theta& theta0, const std::vector<char>& use,
             const std::vector<RowNoise>& noise) const {
     const int m = stack_.rows();
-    detail::ensure_shape(y, m, 1, "y");
+    check_rows(y, use, &noise);
     detail::ensure_shape(theta0, n_, 1, "theta0");
-    NLOSLOC_ENSURE(static_cast<int>(use.size()) == m, "use: expected one flag per row");
-    NLOSLOC_ENSURE(static_cast<int>(noise.size()) == m, "noise: expected one RowNoise per row");
+    for (int i = 0; i < m; ++i)  // the name is built only on failure: solve() does not allocate
+      if (!noise[static_cast<std::size_t>(i)].valid())
+        noise[static_cast<std::size_t>(i)].check("noise[" + std::to_string(i) + "]");
     Fix f;
     f.theta = theta0;
     int rows = 0;
@@ -262,6 +277,7 @@ class LosSolver {
   /// ||q_i||^2 - y_i^2 (RTOA, Bancroft-type linearisation) and [2 q_i^T, -1] [p; ||p||^2] = ||q_i||^2 - y_i^2
   /// (TOA); the auxiliary unknown is left free (linear LS of the range-squared differences).
   bool linear_start(const Eigen::Ref<const VecX>& y, const std::vector<char>& use, Theta& theta) const {
+    check_rows(y, use, nullptr);
     const int D = space_dim();
     const int nv = has_clock_ ? D + 2 : D + 1;
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5> A(nv, nv);
@@ -299,6 +315,33 @@ class LosSolver {
   }
 
  private:
+  /// Sizes of the per-row arguments: y, use and (when given) noise have one entry per row; reading them
+  /// row by row without this check runs past the end of a short vector.
+  void check_rows(const Eigen::Ref<const VecX>& y, const std::vector<char>& use,
+                  const std::vector<RowNoise>* noise) const {
+    const auto m = static_cast<std::size_t>(stack_.rows());
+    detail::ensure_shape(y, stack_.rows(), 1, "y");
+    NLOSLOC_ENSURE(use.size() == m, "use: expected one flag per row (" + std::to_string(m) + "), got " +
+                                        std::to_string(use.size()));
+    NLOSLOC_ENSURE(noise == nullptr || noise->size() == m, "noise: expected one RowNoise per row (" +
+                                                               std::to_string(m) + "), got " +
+                                                               std::to_string(noise ? noise->size() : 0));
+  }
+  /// cost() without the argument checks (solve() checks them once, then evaluates many times).
+  double cost_unchecked(const Eigen::Ref<const VecX>& y, const Theta& theta, const std::vector<char>& use,
+                        const std::vector<RowNoise>& noise) const {
+    set_x(theta);
+    stack_.predict(x_, 0.0, g_);
+    r_ = y - g_;
+    stack_.wrap_residual(r_);
+    double c = 0.0;
+    for (int i = 0; i < stack_.rows(); ++i)
+      if (use[static_cast<std::size_t>(i)] && !std::isnan(y[i])) {
+        const double z = noise[static_cast<std::size_t>(i)].normalized(r_[i]);
+        c += z * z;
+      }
+    return c;
+  }
   void set_x(const Theta& theta) const {
     const StateLayout& L = stack_.layout();
     x_.segment(L.position, L.space_dim) = theta.head(L.space_dim);
@@ -307,7 +350,7 @@ class LosSolver {
   /// Cost at theta; with `jac` also the Jacobian (J_) at theta. Leaves the residuals in r_.
   double eval(const Eigen::Ref<const VecX>& y, const Theta& theta, const std::vector<char>& use,
               const std::vector<RowNoise>& noise, bool jac) const {
-    const double c = cost(y, theta, use, noise);
+    const double c = cost_unchecked(y, theta, use, noise);
     if (jac) stack_.jacobian(x_, 0.0, J_);
     return std::isfinite(c) ? c : std::numeric_limits<double>::infinity();
   }

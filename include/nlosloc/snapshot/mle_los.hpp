@@ -39,6 +39,7 @@ class MleLos {
   /// The fix of epoch y (NaN rows skipped). When no fix is possible the previous one is returned with
   /// valid = false.
   const SnapshotResult& solve(const Eigen::Ref<const VecX>& y) {
+    detail::ensure_shape(y, solver_.stack().rows(), 1, "y");  // polar_start reads y before any solve
     res_.fixes = 0;
     res_.valid = false;
     Fix best;
