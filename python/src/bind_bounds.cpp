@@ -18,5 +18,6 @@ void bind_bounds(py::module_& m) {
   m.def("gcrb_rtoa", &bounds::gcrb_rtoa, py::arg("anchors"), py::arg("position"), py::arg("Q"),
         py::arg("sigma_tau2"),
         "GCRB of the position from RTOA with a clock prior of variance sigma_tau2 (inf: no prior). anchors "
-        "(B, D), position (D,), Q (B, B) SPD measurement covariance.");
+        "(B, D), position (D,), Q (B, B) measurement covariance: positive definite and symmetric "
+        "(max |Q - Q^T| <= 1e-10 ||Q||_F; ValueError naming Q otherwise).");
 }

@@ -4,6 +4,7 @@
 /// prior of variance sigma_tau^2 on the transmission time (clock), eqs. (41)-(48); 2-D or 3-D.
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include "nlosloc/core/types.hpp"
@@ -19,10 +20,11 @@ struct GcrbResult {
 };
 
 /// GCRB of the position from RTOA measurements of B anchors (rows of `anchors`, B x D) at mobile position
-/// `position` (D), measurement covariance Q (B x B, SPD) and prior variance sigma_tau2 of the clock
-/// (> 0; +inf gives the CRB without prior). The unit vectors (cos phi, sin phi) of eq. (44) point from the
-/// anchor to the mobile. position_gcrb is the upper-left block of J^-1, computed as the inverse of the Schur
-/// complement of J's clock entry (eq. 48 prints the bracket without its outer inverse).
+/// `position` (D), measurement covariance Q (B x B, positive definite, max |Q - Q^T| <= 1e-10 ||Q||_F)
+/// and prior variance sigma_tau2 of the clock (> 0; +inf gives the CRB without prior). The unit vectors (cos
+/// phi, sin phi) of eq. (44) point from the anchor to the mobile. position_gcrb is the upper-left block of
+/// J^-1, computed as the inverse of the Schur complement of J's clock entry (eq. 48 prints the bracket
+/// without its outer inverse).
 inline GcrbResult gcrb_rtoa(const MatX& anchors, const VecX& position, const MatX& Q, double sigma_tau2) {
   const Eigen::Index B = anchors.rows(), D = anchors.cols();
   NLOSLOC_ENSURE(D == 2 || D == 3, "anchors: expected B x 2 or B x 3 anchor positions");
@@ -33,6 +35,16 @@ inline GcrbResult gcrb_rtoa(const MatX& anchors, const VecX& position, const Mat
   detail::ensure_shape(Q, B, B, "Q");
   detail::ensure_finite(Q, "Q");
   NLOSLOC_ENSURE(sigma_tau2 > 0.0, "sigma_tau2: expected a variance > 0 (or +inf for no prior)");
+  // A covariance is symmetric: reject rather than silently use the symmetric part of a wrong matrix; the
+  // tolerance (relative to ||Q||) only forgives rounding, which the symmetrisation below then removes.
+  constexpr double kSymmetryTolerance = 1e-10;
+  const double asym = (Q - Q.transpose()).cwiseAbs().maxCoeff();
+  if (asym > kSymmetryTolerance * Q.norm()) {
+    std::ostringstream msg;
+    msg << "Q: expected a symmetric covariance, got max |Q - Q^T| = " << asym << " > " << kSymmetryTolerance
+        << " ||Q||";
+    detail::throw_invalid_argument(msg.str());
+  }
   Eigen::LLT<MatX> llt(0.5 * (Q + Q.transpose()));
   NLOSLOC_ENSURE(llt.info() == Eigen::Success, "Q: expected a symmetric positive definite covariance");
   // eq. (44): H = [H_p; 1^T], columns = unit vectors anchor -> mobile
