@@ -1,9 +1,12 @@
 // Scenarios H1 and H2 (Huerta et al. 2009 Sec. VI): draws reproducible and prefix-consistent, the measured
-// NLOS fraction against eq. (18), geometry and noise of the draws, and seeded accuracy of the baselines on
-// short runs.
+// NLOS fraction against eq. (18), geometry and noise of the draws, the parameter checks, and seeded accuracy
+// (bounds about 1.3x the measured values) of the baselines and of the paper's IUKF and RBPFs on short runs.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nlosloc/sim/h1.hpp"
@@ -144,8 +147,78 @@ TEST_CASE("H2 geometry and sight: hexagon, clock in the RTOA, NLOS fraction near
   CHECK(std::abs(s / n) < 0.3);
   CHECK_THAT(s2 / n, WithinAbs(10.0, 1.0));
   CHECK(std::abs(nlos_fraction(h2, 30, 3000) - 0.5) < 0.06);
-  CHECK_THAT(h2.urr_switch_probability(), WithinAbs(0.05 / 10.05, 1e-12));
+  CHECK_THAT(h2.urr_switch_probability(0), WithinAbs(0.05 / 10.05, 1e-12));
+  CHECK_THAT(h2.urr_switch_probability(1), WithinAbs(0.05 / 10.05, 1e-12));
   CHECK_THAT(h2.urr_nlos_span(), WithinAbs(327.5, 0.5));
+}
+
+TEST_CASE("H2 URR: eq. (15) switch probabilities use E{L_LOS} from LOS and E{L_NLOS} from NLOS",
+          "[h-scenarios]") {
+  H2Params p;
+  p.mean_los = 10.0;
+  p.mean_nlos = 40.0;
+  const H2 h2(p);
+  // w dt = 5 m/s * 0.01 s = 0.05 m
+  CHECK_THAT(h2.urr_switch_probability(0), WithinAbs(0.05 / 10.05, 1e-15));
+  CHECK_THAT(h2.urr_switch_probability(1), WithinAbs(0.05 / 40.05, 1e-15));
+  CHECK_THROWS_WITH(h2.urr_switch_probability(2),
+                    "condition: expected 0 (LOS -> NLOS) or 1 (NLOS -> LOS), got 2");
+  const auto est = make_h2_urr(h2, 0);
+  const auto& urr = dynamic_cast<const SnapshotEstimator<snapshot::Urruela>&>(*est).solver();
+  CHECK_THAT(urr.options().p_ln, WithinAbs(0.05 / 10.05, 1e-15));
+  CHECK_THAT(urr.options().p_nl, WithinAbs(0.05 / 40.05, 1e-15));
+  CHECK_THAT(urr.options().p_nlos, WithinAbs(40.0 / 50.0, 1e-15));  // eq. (18)
+}
+
+TEST_CASE("H1Params / H2Params: every field is checked and named", "[h-scenarios]") {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  {
+    H2Params p;
+    p.tau0_var = -1.0;  // used to give NaN clock draws
+    CHECK_THROWS_WITH(H2(p), "H2Params.tau0_var: expected a finite value > 0, got -1.000000");
+  }
+  {
+    H2Params p;
+    p.tau_dot0_var = nan;
+    CHECK_THROWS_WITH(H2(p), "H2Params.tau_dot0_var: expected a finite value > 0, got nan");
+  }
+  {
+    H2Params p;
+    p.side = 0.0;
+    CHECK_THROWS_WITH(H2(p), "H2Params.side: expected a finite value > 0, got 0.000000");
+  }
+  {
+    H2Params p;
+    p.mean_nlos = -2.0;  // named as the H2Params field, not as the sight model's argument
+    CHECK_THROWS_WITH(H2(p), "H2Params.mean_nlos: expected a finite value > 0, got -2.000000");
+  }
+  {
+    H2Params p;
+    p.pf_particles = 0;
+    CHECK_THROWS_WITH(H2(p), "H2Params.pf_particles: expected >= 1, got 0");
+  }
+  {
+    H1Params p;
+    p.initial_std[2] = -1.0;
+    CHECK_THROWS_WITH(H1(p), "H1Params.initial_std[2]: expected a finite value > 0, got -1.000000");
+  }
+  {
+    H1Params p;
+    p.start[1] = nan;
+    CHECK_THROWS_WITH(H1(p), "H1Params.start: expected finite values (no NaN or inf)");
+  }
+  {
+    H1Params p;
+    p.sector_deg[0] = std::numeric_limits<double>::infinity();
+    CHECK_THROWS_WITH(H1(p), "H1Params.sector_deg: expected finite values (no NaN or inf)");
+  }
+  {
+    H1Params p;
+    p.toa_nlos_var = 0.0;
+    CHECK_THROWS_WITH(H1(p), "H1Params.toa_nlos_var: expected a finite value > 0, got 0.000000");
+  }
+  CHECK_NOTHROW(H1(H1Params()));
+  CHECK_NOTHROW(H2(H2Params()));
 }
 
 TEST_CASE("H1 baselines: seeded accuracy on short runs", "[h-scenarios]") {

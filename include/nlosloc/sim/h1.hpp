@@ -183,20 +183,47 @@ class H1 : public Scenario {
   static constexpr const char* kRbpf = "rRBPF-8";
   static constexpr const char* kRbpfAug = "rRBPF-8-aug";  ///< the same with Table III's noise sigma set
 
+  /// Throws std::invalid_argument naming the first bad field ("H1Params.<field>: expected ...").
   explicit H1(const H1Params& p = H1Params())
-      : p_(p),
+      : p_(checked(p)),
         motion_(p.dt, p.sigma_v2, VelocityNoise::kRandomWalk),
         stack_(make_stack(p)),
         sight_(situation::SightModel::speed_dependent(p.mean_los, p.mean_nlos, p.dt,
                                                       situation::SpeedModel::kMultiple),
                1),
         quality_los_(p.quality_los_a, p.quality_los_b),
-        quality_nlos_(p.quality_nlos_a, p.quality_nlos_b) {
+        quality_nlos_(p.quality_nlos_a, p.quality_nlos_b) {}
+
+  /// `p` if every field is in range, else std::invalid_argument naming the field. Runs before the members
+  /// are built, so the message names the H1Params field rather than a model's argument.
+  static const H1Params& checked(const H1Params& p) {
     NLOSLOC_ENSURE(p.steps > p.discard && p.discard >= 0,
                    "H1Params: expected 0 <= discard < steps, got discard " + std::to_string(p.discard) +
                        ", steps " + std::to_string(p.steps));
+    detail::ensure_positive(p.dt, "H1Params.dt");
     detail::ensure_positive(p.speed, "H1Params.speed");
+    detail::ensure_finite(p.start, "H1Params.start");
     NLOSLOC_ENSURE(std::abs(p.heading.norm() - 1.0) < 1e-9, "H1Params.heading: expected a unit vector");
+    detail::ensure_positive(p.mean_los, "H1Params.mean_los");
+    detail::ensure_positive(p.mean_nlos, "H1Params.mean_nlos");
+    detail::ensure_nonnegative(p.sigma_v2, "H1Params.sigma_v2");
+    detail::ensure_positive(p.toa_los_var, "H1Params.toa_los_var");
+    detail::ensure_positive(p.toa_nlos_var, "H1Params.toa_nlos_var");
+    detail::ensure_positive(p.aoa_los_var, "H1Params.aoa_los_var");
+    detail::ensure_positive(p.aoa_nlos_var, "H1Params.aoa_nlos_var");
+    detail::ensure_finite(p.sector_deg, "H1Params.sector_deg");
+    detail::ensure_positive(p.quality_los_a, "H1Params.quality_los_a");
+    detail::ensure_positive(p.quality_los_b, "H1Params.quality_los_b");
+    detail::ensure_positive(p.quality_nlos_a, "H1Params.quality_nlos_a");
+    detail::ensure_positive(p.quality_nlos_b, "H1Params.quality_nlos_b");
+    // the initial belief's std: > 0 so its covariance diag(initial_std^2) is SPD
+    for (int i = 0; i < 4; ++i)
+      if (!(p.initial_std[i] > 0.0) || !std::isfinite(p.initial_std[i]))
+        detail::ensure_positive(p.initial_std[i],
+                                ("H1Params.initial_std[" + std::to_string(i) + "]").c_str());
+    NLOSLOC_ENSURE(p.rbpf_particles >= 1,
+                   "H1Params.rbpf_particles: expected >= 1, got " + std::to_string(p.rbpf_particles));
+    return p;
   }
 
   std::string name() const override { return "H1"; }

@@ -59,8 +59,9 @@ class H2 : public Scenario {
   static constexpr const char* kRrbpf128Aug = "rRBPF-128-aug";  ///< with Table III's noise sigma set
   static constexpr const char* kPf = "PF";
 
+  /// Throws std::invalid_argument naming the first bad field ("H2Params.<field>: expected ...").
   explicit H2(const H2Params& p = H2Params())
-      : p_(p),
+      : p_(checked(p)),
         motion_(p.dt, p.sigma_v2, p.sigma_tau2),
         anchors_(hexagon(p.side)),
         stack_(make_stack(p, anchors_)),
@@ -68,13 +69,35 @@ class H2 : public Scenario {
                                                       situation::SpeedModel::kMultiple),
                6),
         quality_los_(p.quality_los_a, p.quality_los_b),
-        quality_nlos_(p.quality_nlos_a, p.quality_nlos_b) {
+        quality_nlos_(p.quality_nlos_a, p.quality_nlos_b) {}
+
+  /// `p` if every field is in range, else std::invalid_argument naming the field. Runs before the members
+  /// are built, so the message names the H2Params field rather than a model's argument.
+  static const H2Params& checked(const H2Params& p) {
     NLOSLOC_ENSURE(p.steps > p.discard && p.discard >= 0,
                    "H2Params: expected 0 <= discard < steps, got discard " + std::to_string(p.discard) +
                        ", steps " + std::to_string(p.steps));
+    detail::ensure_positive(p.side, "H2Params.side");
+    detail::ensure_positive(p.dt, "H2Params.dt");
+    detail::ensure_nonnegative(p.sigma_v2, "H2Params.sigma_v2");
+    detail::ensure_nonnegative(p.sigma_tau2, "H2Params.sigma_tau2");
+    // variances of the prior x_0 (drawn with their square roots): > 0 so the prior covariance is SPD
+    detail::ensure_positive(p.tau0_var, "H2Params.tau0_var");
+    detail::ensure_positive(p.tau_dot0_var, "H2Params.tau_dot0_var");
+    detail::ensure_positive(p.mean_los, "H2Params.mean_los");
+    detail::ensure_positive(p.mean_nlos, "H2Params.mean_nlos");
+    detail::ensure_positive(p.rtoa_los_var, "H2Params.rtoa_los_var");
+    detail::ensure_positive(p.rtoa_nlos_var, "H2Params.rtoa_nlos_var");
     detail::ensure_positive(p.position0_std, "H2Params.position0_std");
     detail::ensure_positive(p.velocity0_std, "H2Params.velocity0_std");
+    detail::ensure_positive(p.quality_los_a, "H2Params.quality_los_a");
+    detail::ensure_positive(p.quality_los_b, "H2Params.quality_los_b");
+    detail::ensure_positive(p.quality_nlos_a, "H2Params.quality_nlos_a");
+    detail::ensure_positive(p.quality_nlos_b, "H2Params.quality_nlos_b");
     detail::ensure_positive(p.urr_speed, "H2Params.urr_speed");
+    NLOSLOC_ENSURE(p.pf_particles >= 1,
+                   "H2Params.pf_particles: expected >= 1, got " + std::to_string(p.pf_particles));
+    return p;
   }
 
   std::string name() const override { return "H2"; }
@@ -144,10 +167,14 @@ class H2 : public Scenario {
     v << p2, p2, p_.tau0_var, v2, v2, p_.tau_dot0_var;
     return v;
   }
-  /// URR's per-step switch probability: eq. (15) p_LN = w dt / (w dt + E{L}) at w = urr_speed.
-  double urr_switch_probability() const {
+  /// URR's per-step probability of leaving `condition` (0 LOS, 1 NLOS) at w = urr_speed: eq. (15)
+  /// p_LN = w dt / (w dt + E{L_LOS}) for condition 0, p_NL = w dt / (w dt + E{L_NLOS}) for condition 1.
+  double urr_switch_probability(int condition) const {
+    NLOSLOC_ENSURE(
+        condition == 0 || condition == 1,
+        "condition: expected 0 (LOS -> NLOS) or 1 (NLOS -> LOS), got " + std::to_string(condition));
     const double a = p_.urr_speed * p_.dt;
-    return a / (a + p_.mean_los);
+    return a / (a + (condition == 0 ? p_.mean_los : p_.mean_nlos));
   }
   /// URR's uniform NLOS span W: the 99% quantile of the NLOS noise (Rayleigh, Table X).
   double urr_nlos_span() const { return stack_.noise(0, 1).quantile(0.99); }
@@ -232,7 +259,8 @@ inline std::unique_ptr<Estimator> make_h2_cong(const H2& s, int /*case_index*/) 
 inline std::unique_ptr<Estimator> make_h2_urr(const H2& s, int /*case_index*/) {
   snapshot::UrruelaOptions o;
   o.p_nlos = s.params().mean_nlos / (s.params().mean_los + s.params().mean_nlos);  // eq. (18)
-  o.p_ln = o.p_nl = s.urr_switch_probability();
+  o.p_ln = s.urr_switch_probability(0);                                            // eq. (15), E{L_LOS}
+  o.p_nl = s.urr_switch_probability(1);                                            // eq. (15), E{L_NLOS}
   o.nlos_span = s.urr_nlos_span();
   return make_snapshot_estimator(H2::kUrr, snapshot::Urruela(s.measurements(), o));
 }

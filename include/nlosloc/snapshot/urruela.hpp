@@ -93,6 +93,8 @@ class Urruela {
   }
 
   const LosSolver& solver() const { return solver_; }
+  /// The options it was built with (prior, switch probabilities, NLOS span).
+  const UrruelaOptions& options() const { return opt_; }
   /// The hypotheses (LOS anchor masks), larger LOS sets first.
   const std::vector<AnchorMask>& hypotheses() const { return hyp_; }
   bool classifies_sight() const { return true; }
