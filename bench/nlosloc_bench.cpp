@@ -7,7 +7,8 @@
 ///                        [--steps T] [--json FILE] [--quick] [--quiet]
 ///
 /// Progress goes to stderr, tables to stdout; exit code 2 on a bad argument (unknown scenario, case or
-/// estimator), 1 on any other failure.
+/// estimator, a value out of range such as --steps 0 or --seed -1, or one that does not parse), 1 on any
+/// other failure.
 #include <fmt/core.h>
 #include <fmt/format.h>
 #include <unistd.h>
@@ -240,7 +241,14 @@ int main(int argc, char** argv) {
   RunArgs a;
   run->add_option("scenario", a.scenario, "Scenario name (see list)")->required();
   CLI::Option* runs_opt = run->add_option("--runs,-n", a.runs, "Monte Carlo runs (default 100)");
-  run->add_option("--seed,-s", a.seed, "Seed: run r draws from Rng(seed, r) (default 1)");
+  // strtoull, under CLI11's conversion, turns "-1" into 2^64 - 1: refuse the sign before converting
+  const CLI::Validator unsigned_integer(
+      [](std::string& v) {
+        return v.find('-') == std::string::npos ? std::string() : "expected an integer >= 0, got " + v;
+      },
+      "UINT");
+  run->add_option("--seed,-s", a.seed, "Seed: run r draws from Rng(seed, r) (default 1)")
+      ->check(unsigned_integer);
   run->add_option("--threads,-t", a.threads, "Worker threads (default 0 = all cores)");
   CLI::Option* steps_opt = run->add_option("--steps", a.steps, "Steps per run (default: the scenario's)");
   run->add_option("--case,-c", a.cases, "Cases to run (default all)");
@@ -249,11 +257,19 @@ int main(int argc, char** argv) {
   run->add_flag("--quick", a.quick, "Short check: 5 runs x 400 steps unless --runs/--steps are given");
   run->add_flag("--quiet,-q", a.quiet, "No progress on stderr");
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // app.exit prints help or the error; CLI11's own codes (100+) would break the promise of 2 above.
+    return app.exit(e) == static_cast<int>(CLI::ExitCodes::Success) ? 0 : 2;
+  }
   try {
     const Registry& reg = nlosloc::sim::registry();
     if (list->parsed()) return cmd_list(reg);
     if (run->parsed()) {
+      // 0 is the internal "scenario default": given explicitly, 0 or less is a mistake, not a request.
+      if (steps_opt->count() > 0 && a.steps < 1)
+        throw UsageError("--steps: expected >= 1, got " + std::to_string(a.steps));
       if (a.quick) {
         if (runs_opt->count() == 0) a.runs = 5;
         if (steps_opt->count() == 0) a.steps = 400;
