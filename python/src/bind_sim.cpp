@@ -1,6 +1,7 @@
 /// \file bind_sim.cpp
 /// nlosloc._core.sim: the scenario registry, draws, the Monte Carlo runner (GIL released, progress and
-/// Ctrl-C handled on the calling thread) and the error metrics.
+/// Ctrl-C handled on the calling thread), the error metrics, and the H1 / H2 scenarios with their
+/// parameters (H1Params, H2Params) so that they run with custom values.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -12,6 +13,8 @@
 #include <vector>
 
 #include "bind.hpp"
+#include "nlosloc/sim/h1.hpp"
+#include "nlosloc/sim/h2.hpp"
 #include "nlosloc/sim/metrics.hpp"
 #include "nlosloc/sim/montecarlo.hpp"
 #include "nlosloc/sim/registry.hpp"
@@ -63,9 +66,9 @@ py::dict scenario_info(const std::string& name) {
   return info;
 }
 
-py::dict draw(const std::string& name, const std::string& case_name, std::uint64_t seed, std::uint64_t run,
-              std::optional<int> steps) {
-  sim::Draw d = sim::registry().scenario(name).draw(case_name, seed, run, steps.value_or(0));
+py::dict draw_dict(const sim::Scenario& s, const std::string& case_name, std::uint64_t seed,
+                   std::uint64_t run, std::optional<int> steps) {
+  sim::Draw d = s.draw(case_name, seed, run, steps.value_or(0));
   py::dict r;
   r["scenario"] = d.scenario;
   r["case"] = d.case_name;
@@ -82,7 +85,14 @@ py::dict draw(const std::string& name, const std::string& case_name, std::uint64
   return r;
 }
 
-py::dict run_monte_carlo(const std::string& name, const std::string& case_name, int runs, std::uint64_t seed,
+py::dict draw(const std::string& name, const std::string& case_name, std::uint64_t seed, std::uint64_t run,
+              std::optional<int> steps) {
+  return draw_dict(sim::registry().scenario(name), case_name, seed, run, steps);
+}
+
+/// Runs the estimators `estimators` (default all) registered in the built-in registry under the scenario's
+/// name on `s`, which may be a scenario built with custom parameters (the factories take any H1 / H2).
+py::dict run_monte_carlo(const sim::Scenario& s, const std::string& case_name, int runs, std::uint64_t seed,
                          std::optional<std::vector<std::string>> estimators, int threads,
                          std::optional<int> steps, const py::object& progress) {
   const bool has_progress = !progress.is_none();
@@ -104,11 +114,16 @@ py::dict run_monte_carlo(const std::string& name, const std::string& case_name, 
     py::gil_scoped_acquire gil;
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C cancels the run
   };
-  const std::vector<std::string> names = estimators.value_or(std::vector<std::string>{});
+  const sim::Registry& reg = sim::registry();
+  s.case_index(case_name);  // validate before starting threads
+  const std::vector<std::string> names =
+      estimators && !estimators->empty() ? *estimators : reg.estimators(s.name());
+  std::vector<sim::EstimatorSpec> specs;
+  for (const auto& n : names) specs.push_back({n, reg.estimator(s.name(), n)});
   sim::MonteCarloResult res;
   {
     py::gil_scoped_release release;
-    res = sim::run_monte_carlo(sim::registry(), name, case_name, names, opt);
+    res = sim::run_monte_carlo(s, case_name, specs, opt);
   }
   py::dict ests;
   for (sim::EstimatorRuns& e : res.estimators) {
@@ -135,9 +150,150 @@ py::dict run_monte_carlo(const std::string& name, const std::string& case_name, 
   return r;
 }
 
+/// A read-write numpy property for a fixed-size vector field of a params struct; the setter checks the
+/// length and names the field ("H1Params.start").
+template <class P, int N, nlosloc::Vec<N> P::*Field, class C>
+void vec_field(C& c, const char* name, const char* qualified, const char* doc) {
+  c.def_property(
+      name, [](const P& p) { return nlosloc::VecX(p.*Field); },
+      [qualified](P& p, const nlosloc::VecX& v) {
+        nlosloc::detail::ensure_shape(v, N, 1, qualified);
+        p.*Field = v;
+      },
+      doc);
+}
+
+/// The quality-statistic fields that H1Params and H2Params share (choice: Beta per condition).
+template <class P, class C>
+void quality_fields(C& c) {
+  c.def_readwrite("quality_los_a", &P::quality_los_a, "Choice: o | LOS ~ Beta(a, b), a > 0.")
+      .def_readwrite("quality_los_b", &P::quality_los_b, "Choice: o | LOS ~ Beta(a, b), b > 0.")
+      .def_readwrite("quality_nlos_a", &P::quality_nlos_a, "Choice: o | NLOS ~ Beta(a, b), a > 0.")
+      .def_readwrite("quality_nlos_b", &P::quality_nlos_b, "Choice: o | NLOS ~ Beta(a, b), b > 0.");
+}
+
+/// Scenario, H1Params, H1, H2Params, H2.
+void bind_scenarios(py::module_& m) {
+  py::class_<sim::Scenario, std::shared_ptr<sim::Scenario>>(
+      m, "Scenario", "A simulation scenario: geometry, measurement stack and a draw() of truth + data.")
+      .def_property_readonly("name", &sim::Scenario::name, "Short name (\"H1\").")
+      .def_property_readonly("description", &sim::Scenario::description,
+                             "One line with the paper and section.")
+      .def_property_readonly("choices", &sim::Scenario::choices, "Values taken where the paper is silent.")
+      .def_property_readonly("cases", &sim::Scenario::cases, "Case names.")
+      .def_property_readonly("steps", &sim::Scenario::steps, "Default number of steps T of a run.")
+      .def_property_readonly("dt", &sim::Scenario::dt, "Sampling period (s).")
+      .def_property_readonly("anchors", &sim::Scenario::anchors, "(B, D) anchor positions (m).")
+      .def_property_readonly("discard", &sim::Scenario::discard, "First samples left out of the statistics.")
+      .def_property_readonly("state_dim", &sim::Scenario::state_dim, "Size n of the true state.")
+      .def_property_readonly("space_dim", &sim::Scenario::space_dim, "Space dimension D.")
+      .def_property_readonly("measurements", &sim::Scenario::measurements,
+                             "The models.MeasurementStack that generates the draws' y.")
+      .def_property_readonly("paper_source", &sim::Scenario::paper_source, "Where the published numbers are.")
+      .def("case_index", &sim::Scenario::case_index, py::arg("case"),
+           "Index of a case name; ValueError listing the valid names.")
+      .def("draw", &draw_dict, py::arg("case"), py::arg("seed"), py::arg("run"),
+           py::arg("steps") = py::none(),
+           "One realisation of a case from Rng(seed, run); the same dict as nlosloc.sim.draw().");
+
+  using sim::H1Params;
+  py::class_<H1Params> h1p(m, "H1Params",
+                           "Parameters of H1 (Huerta et al. 2009 Sec. VI-A, Tables VII-VIII, plus choices). "
+                           "Checked when an H1 is built from them (ValueError naming the field).");
+  h1p.def(py::init<>())
+      .def_readwrite("dt", &H1Params::dt, "Table VII: Delta t (s), > 0.")
+      .def_readwrite("steps", &H1Params::steps, "Table VII: number of steps (200 s), > discard.")
+      .def_readwrite("speed", &H1Params::speed, "Table VII: mobile speed (m/s), > 0.")
+      .def_readwrite("mean_los", &H1Params::mean_los, "Table VII: E{L_LOS} (m), > 0.")
+      .def_readwrite("mean_nlos", &H1Params::mean_nlos, "Table VII: E{L_NLOS} (m), > 0.")
+      .def_readwrite("sigma_v2", &H1Params::sigma_v2, "Table VII: filters' sigma_v^2 ((m/s)^2 per s), >= 0.")
+      .def_readwrite("toa_los_var", &H1Params::toa_los_var, "Table VIII: TOA LOS Normal variance (m^2), > 0.")
+      .def_readwrite("toa_nlos_var", &H1Params::toa_nlos_var,
+                     "Table VIII: TOA NLOS Rayleigh variance (m^2), > 0.")
+      .def_readwrite("aoa_los_var", &H1Params::aoa_los_var,
+                     "Table VIII: AOA LOS Normal variance (rad^2), > 0.")
+      .def_readwrite("aoa_nlos_var", &H1Params::aoa_nlos_var,
+                     "Table VIII: AOA NLOS Normal variance (rad^2), > 0.")
+      .def_readwrite("discard", &H1Params::discard, "Choice: first samples left out, 0 <= discard < steps.")
+      .def_readwrite("rbpf_particles", &H1Params::rbpf_particles, "Sec. VI-A: particles of rRBPF-8, >= 1.");
+  quality_fields<H1Params>(h1p);
+  vec_field<H1Params, 2, &H1Params::start>(h1p, "start", "H1Params.start", "Choice: start (m), (2,).");
+  vec_field<H1Params, 2, &H1Params::heading>(h1p, "heading", "H1Params.heading",
+                                             "Choice: direction of motion, unit vector (2,).");
+  vec_field<H1Params, 3, &H1Params::sector_deg>(h1p, "sector_deg", "H1Params.sector_deg",
+                                                "Choice: broadsides of the three sectors (deg), (3,).");
+  vec_field<H1Params, 4, &H1Params::initial_std>(h1p, "initial_std", "H1Params.initial_std",
+                                                 "Choice: initial belief std (m, m, m/s, m/s), (4,), > 0.");
+
+  py::class_<sim::H1, sim::Scenario, std::shared_ptr<sim::H1>>(
+      m, "H1",
+      "Scenario H1 (Huerta et al. 2009 Sec. VI-A): one tri-sector BS, TOA + AOA phase. Built with custom "
+      "H1Params it runs with run_monte_carlo(scenario, ...) and the estimators registered for H1.")
+      .def(py::init<const H1Params&>(), py::arg_v("params", H1Params(), "H1Params()"))
+      .def_property_readonly(
+          "params", [](const sim::H1& h) { return h.params(); }, "A copy of its H1Params.")
+      .def_property_readonly("motion", &sim::H1::motion,
+                             "Filters' models.ConstantVelocity2 (Huerta eqs. 6-7, random walk sigma_v^2).")
+      .def_property_readonly("sight_process", &sim::H1::sight_process,
+                             "The situation.SightProcess of the single anchor (eq. 17).")
+      .def_property_readonly("quality", &sim::H1::quality,
+                             "Quality likelihoods per condition [LOS, NLOS] (noise.Distribution).")
+      .def("serving_sector", &sim::H1::serving_sector, py::arg("theta"),
+           "Index (0..2) of the sector serving a mobile at bearing theta (rad).");
+
+  using sim::H2Params;
+  py::class_<H2Params> h2p(
+      m, "H2Params",
+      "Parameters of H2 (Huerta et al. 2009 Sec. VI-B, Tables IX-X, plus choices). Checked "
+      "when an H2 is built from them (ValueError naming the field).");
+  h2p.def(py::init<>())
+      .def_readwrite("side", &H2Params::side, "Sec. VI-B: hexagon side = circumradius (m), > 0.")
+      .def_readwrite("dt", &H2Params::dt, "Table IX: Delta t (s), > 0.")
+      .def_readwrite("steps", &H2Params::steps, "Table IX: number of steps (60 s), > discard.")
+      .def_readwrite("sigma_v2", &H2Params::sigma_v2, "Table IX: velocity random walk sigma_v^2, >= 0.")
+      .def_readwrite("sigma_tau2", &H2Params::sigma_tau2, "Table IX: drift random walk sigma_tau^2, >= 0.")
+      .def_readwrite("tau0_var", &H2Params::tau0_var, "Table IX: E{tau_0^2} (lm^2), > 0.")
+      .def_readwrite("tau_dot0_var", &H2Params::tau_dot0_var, "Table IX: E{tau_dot_0^2} ((lm/s)^2), > 0.")
+      .def_readwrite("mean_los", &H2Params::mean_los, "Table IX: E{L_LOS} (m), > 0.")
+      .def_readwrite("mean_nlos", &H2Params::mean_nlos, "Table IX: E{L_NLOS} (m), > 0.")
+      .def_readwrite("rtoa_los_var", &H2Params::rtoa_los_var, "Table X: RTOA LOS Normal variance, > 0.")
+      .def_readwrite("rtoa_nlos_var", &H2Params::rtoa_nlos_var, "Table X: RTOA NLOS Rayleigh variance, > 0.")
+      .def_readwrite("position0_std", &H2Params::position0_std, "Choice: std of the start (m), > 0.")
+      .def_readwrite("velocity0_std", &H2Params::velocity0_std, "Choice: std of the initial velocity, > 0.")
+      .def_readwrite("discard", &H2Params::discard, "Choice: first samples left out, 0 <= discard < steps.")
+      .def_readwrite("urr_speed", &H2Params::urr_speed,
+                     "Choice: transversal speed (m/s) of URR's switch probabilities, > 0.")
+      .def_readwrite("pf_particles", &H2Params::pf_particles, "Sec. VI-B: particles of PF, >= 1.");
+  quality_fields<H2Params>(h2p);
+
+  py::class_<sim::H2, sim::Scenario, std::shared_ptr<sim::H2>>(
+      m, "H2",
+      "Scenario H2 (Huerta et al. 2009 Sec. VI-B): six RTOA anchors on a hexagon, unsynchronised mobile. "
+      "Built with custom H2Params it runs with run_monte_carlo(scenario, ...) and the estimators registered "
+      "for H2.")
+      .def(py::init<const H2Params&>(), py::arg_v("params", H2Params(), "H2Params()"))
+      .def_property_readonly(
+          "params", [](const sim::H2& h) { return h.params(); }, "A copy of its H2Params.")
+      .def_property_readonly("motion", &sim::H2::motion,
+                             "Filters' models.ConstantVelocityClock2 (Huerta eqs. 5-7).")
+      .def_property_readonly("sight_process", &sim::H2::sight_process,
+                             "The situation.SightProcess (one eq. 17 chain per anchor).")
+      .def_property_readonly("quality", &sim::H2::quality,
+                             "Quality likelihoods per condition [LOS, NLOS] (noise.Distribution).")
+      .def(
+          "prior_variances", [](const sim::H2& h) { return nlosloc::VecX(h.prior_variances()); },
+          "(6,) diagonal of the prior covariance of x_0 = [p, tau, v, tau_dot].")
+      .def("urr_switch_probability", &sim::H2::urr_switch_probability, py::arg("condition"),
+           "URR's per-step probability of leaving `condition` (0 LOS, 1 NLOS), Huerta eq. (15).")
+      .def("urr_nlos_span", &sim::H2::urr_nlos_span,
+           "URR's uniform NLOS span W: the 99% quantile of the NLOS noise.");
+}
+
 }  // namespace
 
 void bind_sim(py::module_& m) {
+  bind_scenarios(m);
+
   m.def(
       "scenarios", [] { return sim::registry().scenarios(); },
       R"doc(Names of the registered scenarios.
@@ -196,10 +352,17 @@ dict
     ``initial_mean`` (n), ``initial_cov`` (n x n), and ``scenario``, ``case``, ``seed``, ``run``, ``dt``.
 )doc");
 
-  m.def("run_monte_carlo", &run_monte_carlo, py::arg("name"), py::arg("case"), py::arg("runs"),
-        py::arg("seed"), py::arg("estimators") = py::none(), py::arg("threads") = 0,
-        py::arg("steps") = py::none(), py::arg("progress") = py::none(),
-        R"doc(Monte Carlo run of registered estimators on identical draws.
+  m.def(
+      "run_monte_carlo",
+      [](const std::string& name, const std::string& case_name, int runs, std::uint64_t seed,
+         std::optional<std::vector<std::string>> estimators, int threads, std::optional<int> steps,
+         const py::object& progress) {
+        return run_monte_carlo(sim::registry().scenario(name), case_name, runs, seed, std::move(estimators),
+                               threads, steps, progress);
+      },
+      py::arg("name"), py::arg("case"), py::arg("runs"), py::arg("seed"), py::arg("estimators") = py::none(),
+      py::arg("threads") = 0, py::arg("steps") = py::none(), py::arg("progress") = py::none(),
+      R"doc(Monte Carlo run of registered estimators on identical draws.
 
 Every run's draw is generated once and fed to every estimator; the result does not depend on
 ``threads``. The GIL is released while the workers run; Ctrl-C cancels.
@@ -235,6 +398,32 @@ Raises
 ------
 ValueError
     On an unknown scenario, case or estimator name, or a bad count.
+)doc");
+
+  m.def("run_monte_carlo", &run_monte_carlo, py::arg("scenario"), py::arg("case"), py::arg("runs"),
+        py::arg("seed"), py::arg("estimators") = py::none(), py::arg("threads") = 0,
+        py::arg("steps") = py::none(), py::arg("progress") = py::none(),
+        R"doc(Monte Carlo run on a scenario object, e.g. ``H2(params)`` with custom parameters.
+
+The same as the overload taking a name, with the estimators registered for ``scenario.name``
+(their factories build each estimator from this scenario's models, so custom parameters reach them).
+
+Parameters
+----------
+scenario : Scenario
+    An H1 or H2 (or any Scenario whose name is registered).
+case, runs, seed, estimators, threads, steps, progress
+    As in the overload taking a name.
+
+Returns
+-------
+dict
+    As in the overload taking a name.
+
+Raises
+------
+ValueError
+    On an unknown case or estimator name, or a bad count.
 )doc");
 
   m.def(

@@ -27,6 +27,20 @@ Theta theta_in(const VecX& v, int n, const char* name) {
 
 std::vector<char> flags_in(const std::vector<bool>& use) { return std::vector<char>(use.begin(), use.end()); }
 
+/// `use` from Python (None: every row) for a solver of `m` rows.
+std::vector<char> flags_or_all(const std::optional<std::vector<bool>>& use, int m) {
+  return use ? flags_in(*use) : std::vector<char>(static_cast<std::size_t>(m), 1);
+}
+
+/// A RowNoise setter that keeps the model valid (RowNoise::check names the field).
+template <double RowNoise::*Field>
+void set_checked(RowNoise& r, double v) {
+  RowNoise t = r;
+  t.*Field = v;
+  t.check("RowNoise");
+  r = t;
+}
+
 py::dict result_dict(const SnapshotResult& r) {
   py::dict d;
   d["theta"] = theta_out(r.theta);
@@ -63,23 +77,26 @@ void bind_snapshot(py::module_& m) {
   py::class_<RowNoise>(m, "RowNoise",
                        "Noise model of one row in a fix: Gaussian or split (asymmetric) normal.")
       .def(py::init([](double center, double sigma_left, double sigma_right) {
-             detail::ensure_positive(sigma_left, "sigma_left");
-             detail::ensure_positive(sigma_right, "sigma_right");
-             return RowNoise{center, sigma_left, sigma_right};
+             const RowNoise r{center, sigma_left, sigma_right};
+             r.check("RowNoise");
+             return r;
            }),
-           py::arg("center"), py::arg("sigma_left"), py::arg("sigma_right"))
-      .def_static(
-          "gaussian",
-          [](double mean, double std) {
-            detail::ensure_positive(std, "std");
-            return RowNoise::gaussian(mean, std);
-          },
-          py::arg("mean"), py::arg("std"), "Gaussian N(mean, std^2).")
+           py::arg("center"), py::arg("sigma_left"), py::arg("sigma_right"),
+           "center finite; sigma_left, sigma_right finite > 0 (ValueError naming the field otherwise).")
+      .def_static("gaussian", &RowNoise::gaussian, py::arg("mean"), py::arg("std"),
+                  "Gaussian N(mean, std^2): mean finite, std finite > 0.")
       .def_static("split", &RowNoise::split, py::arg("dist"),
                   "From a noise.AsymmetricNormal (Cong & Zhuang 2005).")
-      .def_readwrite("center", &RowNoise::center)
-      .def_readwrite("sigma_left", &RowNoise::sigma_left)
-      .def_readwrite("sigma_right", &RowNoise::sigma_right)
+      .def_property(
+          "center", [](const RowNoise& r) { return r.center; }, &set_checked<&RowNoise::center>,
+          "Mean (Gaussian) or mode (split normal) of the noise; finite.")
+      .def_property(
+          "sigma_left", [](const RowNoise& r) { return r.sigma_left; }, &set_checked<&RowNoise::sigma_left>,
+          "Standard deviation left of the center; finite > 0.")
+      .def_property(
+          "sigma_right", [](const RowNoise& r) { return r.sigma_right; },
+          &set_checked<&RowNoise::sigma_right>, "Standard deviation right of the center; finite > 0.")
+      .def("valid", &RowNoise::valid, "True when center is finite and both sigmas are finite > 0.")
       .def("log_pdf", &RowNoise::log_pdf, py::arg("r"), "log density of the residual r.")
       .def("__repr__", [](const RowNoise& r) {
         return "RowNoise(center=" + std::to_string(r.center) +
@@ -109,29 +126,63 @@ void bind_snapshot(py::module_& m) {
       "MeasurementStack (the MLE-LOS of Huerta Sec. VI-A and the inner solver of the baselines).")
       .def(py::init<const MeasurementStack&, const GaussNewtonOptions&>(), py::arg("measurements"),
            py::arg("options") = GaussNewtonOptions())
-      .def_property_readonly("unknowns", &LosSolver::unknowns)
-      .def_property_readonly("has_clock", &LosSolver::has_clock)
+      .def_property_readonly("unknowns", &LosSolver::unknowns, "D, plus 1 with RTOA rows.")
+      .def_property_readonly("has_clock", &LosSolver::has_clock, "True when the clock bias is an unknown.")
+      .def_property_readonly("space_dim", &LosSolver::space_dim, "Space dimension D.")
+      .def_property_readonly(
+          "options", [](const LosSolver& s) { return s.options(); },
+          "A copy of the GaussNewtonOptions it was built with.")
       .def_property_readonly("los_noise", &LosSolver::los_noise, "The LOS Gaussian RowNoise of every row.")
+      .def(
+          "residuals",
+          [](const LosSolver& s, const VecX& y, const VecX& theta) {
+            VecX r;
+            s.residuals(y, theta_in(theta, s.unknowns(), "theta"), r);
+            return r;
+          },
+          py::arg("y"), py::arg("theta"),
+          "Residuals y - g(theta) of every row (angle rows wrapped); y (rows,), theta (unknowns,).")
+      .def(
+          "cost",
+          [](const LosSolver& s, const VecX& y, const VecX& theta,
+             const std::optional<std::vector<bool>>& use, const std::optional<std::vector<RowNoise>>& noise) {
+            return s.cost(y, theta_in(theta, s.unknowns(), "theta"), flags_or_all(use, s.stack().rows()),
+                          noise ? *noise : s.los_noise());
+          },
+          py::arg("y"), py::arg("theta"), py::arg("use") = py::none(), py::arg("noise") = py::none(),
+          "Sum of squared normalised residuals ((r_i - c_i) / s_i)^2 over the rows flagged in `use` (default "
+          "all; NaN rows skipped) with per-row RowNoise `noise` (default LOS).")
+      .def(
+          "rows_of",
+          [](const LosSolver& s, AnchorMask mask) {
+            std::vector<char> use;
+            s.rows_of(mask, use);
+            return std::vector<bool>(use.begin(), use.end());
+          },
+          py::arg("mask"), "Row flags of the rows whose anchor (both for TDOA) is in the bit mask `mask`.")
       .def(
           "solve",
           [](const LosSolver& s, const VecX& y, const VecX& theta0,
              const std::optional<std::vector<bool>>& use, const std::optional<std::vector<RowNoise>>& noise) {
-            const auto m = static_cast<std::size_t>(s.stack().rows());
-            const std::vector<char> u = use ? flags_in(*use) : std::vector<char>(m, 1);
-            return s.solve(y, theta_in(theta0, s.unknowns(), "theta0"), u, noise ? *noise : s.los_noise());
+            return s.solve(y, theta_in(theta0, s.unknowns(), "theta0"), flags_or_all(use, s.stack().rows()),
+                           noise ? *noise : s.los_noise());
           },
           py::arg("y"), py::arg("theta0"), py::arg("use") = py::none(), py::arg("noise") = py::none(),
           "Fix from the rows flagged in `use` (default all) with per-row RowNoise `noise` (default LOS).")
       .def(
           "linear_start",
           [](const LosSolver& s, const VecX& y, const std::optional<std::vector<bool>>& use) -> py::object {
-            const auto m = static_cast<std::size_t>(s.stack().rows());
             Theta t;
-            if (!s.linear_start(y, use ? flags_in(*use) : std::vector<char>(m, 1), t)) return py::none();
+            if (!s.linear_start(y, flags_or_all(use, s.stack().rows()), t)) return py::none();
             return py::cast(theta_out(t));
           },
           py::arg("y"), py::arg("use") = py::none(),
           "Closed-form linear LS start of the TOA/RTOA rows, or None when too few rows.");
+
+  m.def("mask_count", &mask_count, py::arg("mask"), "Number of anchors in an anchor bit mask.");
+  m.def("subsets_at_least", &subsets_at_least, py::arg("num_anchors"), py::arg("min_size"),
+        "Every anchor bit mask over num_anchors (1..20) anchors with at least min_size anchors, larger sets "
+        "first, then ascending mask value.");
 
   py::class_<ChenOptions>(m, "ChenOptions", "Options of Chen.")
       .def(py::init<>())
@@ -191,7 +242,11 @@ void bind_snapshot(py::module_& m) {
           py::arg("measurements"), py::arg("options") = UrruelaOptions(),
           py::arg("gauss_newton") = GaussNewtonOptions());
     baseline_methods<Urruela>(c);
-    c.def_property_readonly("hypotheses", &Urruela::hypotheses, "LOS anchor bit masks of the trellis states.")
+    c.def_property_readonly(
+         "options", [](const Urruela& u) { return u.options(); },
+         "A copy of the UrruelaOptions it was built with.")
+        .def_property_readonly("hypotheses", &Urruela::hypotheses,
+                               "LOS anchor bit masks of the trellis states.")
         .def_property_readonly("path_metrics", &Urruela::path_metrics, "Viterbi metrics (minimum 0).");
   }
 }

@@ -130,3 +130,83 @@ def test_plots_agg(monkeypatch: pytest.MonkeyPatch) -> None:
     fig, ax3 = plt.subplots()
     assert plots.error_cdf(res, ax=ax3, discard=False) is ax3
     plt.close("all")
+
+
+def test_h1_h2_params_round_trip_and_checks() -> None:
+    p = sim.H1Params()
+    assert p.steps == 20000 and p.mean_los == 30.0 and p.mean_nlos == 5.0
+    np.testing.assert_array_equal(p.start, [-1000.0, 400.0])
+    np.testing.assert_array_equal(p.initial_std, [10.0, 10.0, 1.0, 1.0])
+    np.testing.assert_array_equal(p.sector_deg, [90.0, 210.0, 330.0])
+    p.start = np.array([-500.0, 300.0])
+    np.testing.assert_array_equal(p.start, [-500.0, 300.0])
+    with pytest.raises(
+        ValueError, match=r"^H1Params\.start: expected shape \(2, 1\), got \(3, 1\)$"
+    ):
+        p.start = np.zeros(3)
+    p.initial_std = np.array([10.0, 10.0, -1.0, 1.0])
+    with pytest.raises(
+        ValueError,
+        match=r"^H1Params\.initial_std\[2\]: expected a finite value > 0, got -1\.000000$",
+    ):
+        sim.H1(p)
+    q = sim.H2Params()
+    assert q.side == 3000.0 and q.tau0_var == 10.0 and q.pf_particles == 1000000
+    q.tau0_var = -1.0
+    with pytest.raises(
+        ValueError, match=r"^H2Params\.tau0_var: expected a finite value > 0, got -1\.000000$"
+    ):
+        sim.H2(q)
+    q.tau0_var = 10.0
+    q.side = 0.0
+    with pytest.raises(
+        ValueError, match=r"^H2Params\.side: expected a finite value > 0, got 0\.000000$"
+    ):
+        sim.H2(q)
+
+
+def test_h1_accessors() -> None:
+    h = sim.H1()
+    assert isinstance(h, sim.Scenario)
+    assert h.name == "H1" and h.cases == ["default"] and h.steps == 20000
+    assert h.params.rbpf_particles == 8
+    # sectors with broadsides 90, 210, 330 deg: bearing 0 is 30 deg from 330 and 90 from 90
+    assert h.serving_sector(0.0) == 2
+    assert h.serving_sector(np.pi / 2) == 0
+    assert h.serving_sector(np.pi) == 1
+    assert h.motion.dt == pytest.approx(0.01)
+    assert h.sight_process.num_anchors == 1
+    assert len(h.quality) == 2
+    assert h.measurements.rows == 4
+
+
+def test_h2_custom_params_reach_the_scenario_and_the_runner() -> None:
+    p = sim.H2Params()
+    p.side = 1500.0
+    p.mean_nlos = 40.0
+    p.steps = 150
+    h = sim.H2(p)
+    assert h.params.side == 1500.0
+    np.testing.assert_allclose(np.linalg.norm(h.anchors, axis=1), 1500.0)
+    # eq. (15): p_LN from E{L_LOS} = 10, p_NL from E{L_NLOS} = 40; w dt = 5 m/s * 0.01 s
+    assert h.urr_switch_probability(0) == pytest.approx(0.05 / 10.05, rel=1e-14)
+    assert h.urr_switch_probability(1) == pytest.approx(0.05 / 40.05, rel=1e-14)
+    with pytest.raises(
+        ValueError, match=r"^condition: expected 0 \(LOS -> NLOS\) or 1 \(NLOS -> LOS\), got 2$"
+    ):
+        h.urr_switch_probability(2)
+    np.testing.assert_array_equal(h.prior_variances(), [1.0, 1.0, 10.0, 1.0, 1.0, 10.0])
+    assert h.urr_nlos_span() == pytest.approx(327.5, abs=0.5)
+    assert h.motion.dt == pytest.approx(0.01) and h.sight_process.num_anchors == 6
+    d = h.draw("default", 3, 0)
+    assert d["y"].shape == (150, 6)
+    # the runner uses this scenario (150 steps, 1.5 km hexagon), not the registry's default H2
+    res = sim.run_monte_carlo(h, "default", 1, 3, ["EKF-LOS", "URR"], 1)
+    assert res["steps"] == 150
+    assert res["estimators"]["URR"]["errors"].shape == (1, 150)
+    ref = sim.run_monte_carlo("H2", "default", 1, 3, ["EKF-LOS"], 1, 150)
+    assert not np.array_equal(
+        res["estimators"]["EKF-LOS"]["errors"], ref["estimators"]["EKF-LOS"]["errors"]
+    )
+    with pytest.raises(ValueError, match="estimator: unknown estimator 'K1-EKF' for scenario H2"):
+        sim.run_monte_carlo(h, "default", 1, 3, ["K1-EKF"], 1)

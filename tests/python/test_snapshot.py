@@ -106,3 +106,63 @@ def test_h_scenarios_registered_and_run():
     for name in ("CHEN", "URR"):
         assert res["estimators"][name]["errors"].shape == (1, 200)
         assert np.isfinite(res["estimators"][name]["errors"]).all()
+
+
+def test_row_noise_rejects_bad_values():
+    with pytest.raises(ValueError, match=r"^RowNoise\.center: expected a finite value, got nan$"):
+        snapshot.RowNoise.gaussian(np.nan, 1.0)
+    with pytest.raises(
+        ValueError, match=r"^RowNoise\.sigma_left: expected a finite value > 0, got 0\.000000$"
+    ):
+        snapshot.RowNoise.gaussian(0.0, 0.0)
+    r = snapshot.RowNoise(1.0, 2.0, 3.0)
+    with pytest.raises(
+        ValueError, match=r"^RowNoise\.sigma_right: expected a finite value > 0, got -1\.000000$"
+    ):
+        r.sigma_right = -1.0
+    with pytest.raises(ValueError, match=r"^RowNoise\.center: expected a finite value, got inf$"):
+        r.center = np.inf
+    assert (r.center, r.sigma_left, r.sigma_right) == (
+        1.0,
+        2.0,
+        3.0,
+    )  # unchanged by the rejected sets
+    r.sigma_left = 5.0
+    assert r.sigma_left == 5.0 and r.valid()
+
+
+def test_los_solver_checks_row_arguments():
+    s = snapshot.LosSolver(rtoa_stack())
+    with pytest.raises(ValueError, match=r"^y: expected shape \(6, 1\), got \(5, 1\)$"):
+        s.linear_start(np.zeros(5))
+    with pytest.raises(ValueError, match=r"^use: expected one flag per row \(6\), got 5$"):
+        s.linear_start(np.full(6, 3000.0), [True] * 5)
+    with pytest.raises(ValueError, match=r"^noise: expected one RowNoise per row \(6\), got 1$"):
+        s.solve(np.full(6, 3000.0), np.zeros(3), None, [snapshot.RowNoise.gaussian(0.0, 1.0)])
+    with pytest.raises(ValueError, match=r"^y: expected shape \(6, 1\), got \(5, 1\)$"):
+        snapshot.MleLos(rtoa_stack()).solve(np.zeros(5))
+
+
+def test_los_solver_residuals_cost_rows_of():
+    s = snapshot.LosSolver(rtoa_stack())
+    assert s.space_dim == 2 and s.unknowns == 3
+    assert s.options.max_iterations == 30
+    # at the centre with clock 0 every anchor is 3000 m away: residual y - 3000
+    y = np.array([3001.0, 2999.0, 3002.0, 3000.0, 3000.0, 2997.0])
+    np.testing.assert_allclose(s.residuals(y, np.zeros(3)), y - 3000.0, atol=1e-9)
+    # LOS sigma^2 = 10: (1 + 1 + 4 + 0 + 0 + 9) / 10
+    assert s.cost(y, np.zeros(3)) == pytest.approx(1.5, rel=1e-12)
+    assert s.cost(y, np.zeros(3), [True, True, False, False, False, False]) == pytest.approx(
+        0.2, rel=1e-12
+    )
+    assert s.rows_of(0b000101) == [True, False, True, False, False, False]
+    with pytest.raises(ValueError, match=r"^theta: expected shape \(3, 1\), got \(2, 1\)$"):
+        s.residuals(y, np.zeros(2))
+
+
+def test_subsets_and_mask_count():
+    assert snapshot.mask_count(0b101101) == 4
+    v = snapshot.subsets_at_least(4, 3)
+    assert v == [0b1111, 0b0111, 0b1011, 0b1101, 0b1110]
+    with pytest.raises(ValueError, match="num_anchors"):
+        snapshot.subsets_at_least(21, 1)

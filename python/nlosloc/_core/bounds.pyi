@@ -32,5 +32,5 @@ class GcrbResult:
         """
 def gcrb_rtoa(anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], position: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], Q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], sigma_tau2: typing.SupportsFloat | typing.SupportsIndex) -> GcrbResult:
     """
-    GCRB of the position from RTOA with a clock prior of variance sigma_tau2 (inf: no prior). anchors (B, D), position (D,), Q (B, B) SPD measurement covariance.
+    GCRB of the position from RTOA with a clock prior of variance sigma_tau2 (inf: no prior). anchors (B, D), position (D,), Q (B, B) measurement covariance: positive definite and symmetric (max |Q - Q^T| <= 1e-10 ||Q||_F; ValueError naming Q otherwise).
     """

@@ -8,7 +8,7 @@ import nlosloc._core.noise
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Chen', 'ChenOptions', 'Cong', 'CongOptions', 'Fix', 'GaussNewtonOptions', 'LosSolver', 'MleLos', 'RowNoise', 'Urruela', 'UrruelaOptions']
+__all__: list[str] = ['Chen', 'ChenOptions', 'Cong', 'CongOptions', 'Fix', 'GaussNewtonOptions', 'LosSolver', 'MleLos', 'RowNoise', 'Urruela', 'UrruelaOptions', 'mask_count', 'subsets_at_least']
 class RowNoise:
     """
     Noise model of one row in a fix: Gaussian or split (asymmetric) normal.
@@ -16,7 +16,7 @@ class RowNoise:
     @staticmethod
     def gaussian(mean: typing.SupportsFloat | typing.SupportsIndex, std: typing.SupportsFloat | typing.SupportsIndex) -> RowNoise:
         """
-        Gaussian N(mean, std^2).
+        Gaussian N(mean, std^2): mean finite, std finite > 0.
         """
     @staticmethod
     def split(dist: nlosloc._core.noise.AsymmetricNormal) -> RowNoise:
@@ -24,30 +24,42 @@ class RowNoise:
         From a noise.AsymmetricNormal (Cong & Zhuang 2005).
         """
     def __init__(self, center: typing.SupportsFloat | typing.SupportsIndex, sigma_left: typing.SupportsFloat | typing.SupportsIndex, sigma_right: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        ...
+        """
+        center finite; sigma_left, sigma_right finite > 0 (ValueError naming the field otherwise).
+        """
     def __repr__(self) -> str:
         ...
     def log_pdf(self, r: typing.SupportsFloat | typing.SupportsIndex) -> float:
         """
         log density of the residual r.
         """
+    def valid(self) -> bool:
+        """
+        True when center is finite and both sigmas are finite > 0.
+        """
     @property
     def center(self) -> float:
-        ...
+        """
+        Mean (Gaussian) or mode (split normal) of the noise; finite.
+        """
     @center.setter
-    def center(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def center(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def sigma_left(self) -> float:
-        ...
+        """
+        Standard deviation left of the center; finite > 0.
+        """
     @sigma_left.setter
-    def sigma_left(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def sigma_left(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def sigma_right(self) -> float:
-        ...
+        """
+        Standard deviation right of the center; finite > 0.
+        """
     @sigma_right.setter
-    def sigma_right(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def sigma_right(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
 class GaussNewtonOptions:
     """
@@ -108,9 +120,21 @@ class LosSolver:
     """
     def __init__(self, measurements: nlosloc._core.models.MeasurementStack, options: GaussNewtonOptions = ...) -> None:
         ...
+    def cost(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], theta: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], use: collections.abc.Sequence[bool] | None = None, noise: collections.abc.Sequence[RowNoise] | None = None) -> float:
+        """
+        Sum of squared normalised residuals ((r_i - c_i) / s_i)^2 over the rows flagged in `use` (default all; NaN rows skipped) with per-row RowNoise `noise` (default LOS).
+        """
     def linear_start(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], use: collections.abc.Sequence[bool] | None = None) -> typing.Any:
         """
         Closed-form linear LS start of the TOA/RTOA rows, or None when too few rows.
+        """
+    def residuals(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], theta: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Residuals y - g(theta) of every row (angle rows wrapped); y (rows,), theta (unknowns,).
+        """
+    def rows_of(self, mask: typing.SupportsInt | typing.SupportsIndex) -> list[bool]:
+        """
+        Row flags of the rows whose anchor (both for TDOA) is in the bit mask `mask`.
         """
     def solve(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], theta0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], use: collections.abc.Sequence[bool] | None = None, noise: collections.abc.Sequence[RowNoise] | None = None) -> Fix:
         """
@@ -118,15 +142,29 @@ class LosSolver:
         """
     @property
     def has_clock(self) -> bool:
-        ...
+        """
+        True when the clock bias is an unknown.
+        """
     @property
     def los_noise(self) -> list[RowNoise]:
         """
         The LOS Gaussian RowNoise of every row.
         """
     @property
+    def options(self) -> GaussNewtonOptions:
+        """
+        A copy of the GaussNewtonOptions it was built with.
+        """
+    @property
+    def space_dim(self) -> int:
+        """
+        Space dimension D.
+        """
+    @property
     def unknowns(self) -> int:
-        ...
+        """
+        D, plus 1 with RTOA rows.
+        """
 class ChenOptions:
     """
     Options of Chen.
@@ -370,6 +408,11 @@ class Urruela:
         LOS anchor bit masks of the trellis states.
         """
     @property
+    def options(self) -> UrruelaOptions:
+        """
+        A copy of the UrruelaOptions it was built with.
+        """
+    @property
     def path_metrics(self) -> list[float]:
         """
         Viterbi metrics (minimum 0).
@@ -384,3 +427,11 @@ class Urruela:
         """
         D, plus 1 with RTOA rows.
         """
+def mask_count(mask: typing.SupportsInt | typing.SupportsIndex) -> int:
+    """
+    Number of anchors in an anchor bit mask.
+    """
+def subsets_at_least(num_anchors: typing.SupportsInt | typing.SupportsIndex, min_size: typing.SupportsInt | typing.SupportsIndex) -> list[int]:
+    """
+    Every anchor bit mask over num_anchors (1..20) anchors with at least min_size anchors, larger sets first, then ascending mask value.
+    """
