@@ -39,6 +39,16 @@ double nlos_fraction(const Scenario& s, int runs, int steps = 0) {
 double p67(const MonteCarloResult& r, const std::string& name) {
   return percentile(pooled_errors(r.estimator(name).errors, r.discard), 67.0);
 }
+/// `runs` seeded runs of `steps` steps (0: the scenario's) of registered estimators on 2 threads.
+MonteCarloResult seeded_runs(const std::string& scenario, std::uint64_t seed, int runs, int steps,
+                             const std::vector<std::string>& names) {
+  MonteCarloOptions opt;
+  opt.runs = runs;
+  opt.seed = seed;
+  opt.threads = 2;
+  opt.steps = steps;
+  return run_monte_carlo(registry(), scenario, "default", names, opt);
+}
 }  // namespace
 
 TEST_CASE("H1 and H2 are registered with the paper's estimators", "[h-scenarios]") {
@@ -230,24 +240,71 @@ TEST_CASE("H1 baselines: seeded accuracy on short runs", "[h-scenarios]") {
   const MonteCarloResult r = run_monte_carlo(registry(), "H1", "default", {"MLE-LOS", "EKF-LOS"}, opt);
   const double mle = p67(r, "MLE-LOS"), ekf = p67(r, "EKF-LOS");
   INFO("MLE-LOS p67 " << mle << ", EKF-LOS p67 " << ekf);
-  CHECK(mle < 20.0);
-  CHECK(ekf < 40.0);
+  CHECK(mle < 5.6);                                          // measured 4.28
+  CHECK(ekf < 3.4);                                          // measured 2.60
   CHECK(r.estimator("MLE-LOS").sight_accuracy.size() == 0);  // MLE-LOS does not classify sight
 }
 
-TEST_CASE("H2 baselines: seeded accuracy on short runs, CONG/URR classify sight", "[h-scenarios]") {
+TEST_CASE("H2 baselines: seeded accuracy on short runs, CONG/URR classify sight above the majority answer",
+          "[h-scenarios]") {
   MonteCarloOptions opt;
-  opt.runs = 2;
+  opt.runs = 4;
   opt.seed = 12;
   opt.threads = 2;
-  opt.steps = 400;
+  opt.steps = 2000;  // 400 steps are too few: that draw is 72% NLOS and URR's trellis is still settling
   const MonteCarloResult r =
       run_monte_carlo(registry(), "H2", "default", {"EKF-LOS", "CHEN", "CONG", "URR"}, opt);
-  for (const char* n : {"EKF-LOS", "CHEN", "CONG", "URR"}) {
+  // bounds about 1.3x the measured seeded p67 (m): EKF-LOS 56.3, CHEN 82.0, CONG 56.9, URR 110.2
+  const std::vector<std::pair<const char*, double>> bound = {
+      {"EKF-LOS", 73.0}, {"CHEN", 107.0}, {"CONG", 74.0}, {"URR", 143.0}};
+  for (const auto& [n, b] : bound) {
     INFO(n << " p67 " << p67(r, n));
-    CHECK(p67(r, n) < 200.0);
+    CHECK(p67(r, n) < b);
   }
-  CHECK(r.estimator("CONG").sight_accuracy.size() > 0);
-  CHECK(r.estimator("URR").sight_accuracy.size() > 0);
-  CHECK(r.estimator("URR").sight_anchor_accuracy.mean() > 0.5);
+  CHECK(r.estimator("CHEN").sight_accuracy.size() == 0);  // CHEN weights, it does not classify
+  // Always answering the condition most frequent in these draws scores 0.537 (NLOS fraction 0.463);
+  // measured CONG 0.776, URR 0.750.
+  double nlos = 0.0, total = 0.0;
+  for (int run = 0; run < opt.runs; ++run) {
+    const Draw d =
+        registry().scenario("H2").draw("default", opt.seed, static_cast<std::uint64_t>(run), opt.steps);
+    nlos += d.sight.cast<double>().sum();
+    total += static_cast<double>(d.sight.size());
+  }
+  const double majority = std::max(nlos / total, 1.0 - nlos / total);
+  for (const char* n : {"CONG", "URR"}) {
+    const double acc = r.estimator(n).sight_anchor_accuracy.mean();
+    INFO(n << " sight accuracy " << acc << ", majority answer " << majority);
+    CHECK(acc > majority + 0.15);
+  }
+}
+
+TEST_CASE("H1 Huerta estimators: rRBPF-8 and IUKF, seeded accuracy and ordering", "[h-scenarios]") {
+  // the full 200 s: 0.5 to 1.5 s of wall time in Release on 2 cores (idle / shared machine)
+  const MonteCarloResult r = seeded_runs("H1", 11, 4, 0, {"EKF-LOS", "IUKF", "rRBPF-8"});
+  const double ekf = p67(r, "EKF-LOS"), iukf = p67(r, "IUKF"), rbpf = p67(r, "rRBPF-8");
+  INFO("p67 EKF-LOS " << ekf << ", IUKF " << iukf << ", rRBPF-8 " << rbpf);
+  // measured p67 (m): EKF-LOS 7.75, IUKF 0.58, rRBPF-8 0.54; bounds about 1.3x
+  CHECK(rbpf < 0.70);
+  CHECK(iukf < 0.75);
+  CHECK(rbpf < ekf / 5.0);  // Sec. VI-A: tracking the sight beats assuming LOS by far
+  CHECK(rbpf <= iukf);      // Fig. 13: RBPF at least as good as IUKF with one anchor
+  // measured sight accuracy 0.9999 (rRBPF-8), 0.993 (IUKF); the majority answer (LOS) scores 0.845
+  CHECK(r.estimator("rRBPF-8").sight_anchor_accuracy.mean() > 0.99);
+  CHECK(r.estimator("IUKF").sight_anchor_accuracy.mean() > 0.98);
+}
+
+TEST_CASE("H2 Huerta estimators: IUKF and rRBPF-16, seeded accuracy and ordering", "[h-scenarios]") {
+  // 30 s: 0.15 to 0.5 s of wall time in Release on 2 cores (idle / shared machine)
+  const MonteCarloResult r = seeded_runs("H2", 13, 4, 3000, {"EKF-LOS", "IUKF", "rRBPF-16"});
+  const double ekf = p67(r, "EKF-LOS"), iukf = p67(r, "IUKF"), rbpf = p67(r, "rRBPF-16");
+  INFO("p67 EKF-LOS " << ekf << ", IUKF " << iukf << ", rRBPF-16 " << rbpf);
+  // measured p67 (m): EKF-LOS 53.1, IUKF 0.98, rRBPF-16 0.79; bounds about 1.3x
+  CHECK(rbpf < 1.03);
+  CHECK(iukf < 1.27);
+  CHECK(rbpf < ekf / 10.0);  // Figs. 14-15: EKF-LOS severely impaired
+  CHECK(rbpf < iukf);        // Figs. 14-15: IUKF the least accurate of the proposed methods
+  // measured sight accuracy 0.9996 (rRBPF-16), 0.996 (IUKF); the majority answer scores 0.533
+  CHECK(r.estimator("rRBPF-16").sight_anchor_accuracy.mean() > 0.99);
+  CHECK(r.estimator("IUKF").sight_anchor_accuracy.mean() > 0.98);
 }
