@@ -149,23 +149,10 @@ void common_methods(Cls& c) {
       .def_property_readonly(
           "time", [](const A& a) { return a.visit([](const auto& f) { return f.time(); }); },
           "Time of the belief (s).")
-      .def_property_readonly(
-          "dim",
-          [](const A& a) { return a.visit([](const auto& f) { return std::decay_t<decltype(f)>::kDim; }); })
-      .def(
-          "set_belief",
-          [](A& a, const VecX& mean, const MatX& cov, std::optional<double> t) {
-            a.visit([&](auto& f) {
-              constexpr int N = std::decay_t<decltype(f)>::kDim;
-              const Gaussian<N> g = to_gaussian<N>(mean, cov, "mean", "cov");
-              if (t)
-                f.set_belief(g, *t);
-              else
-                f.set_belief(g);
-            });
-          },
-          py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
-          "Replaces the belief (validated: finite mean, symmetric positive definite cov).");
+      .def_property_readonly("dim", [](const A& a) {
+        return a.visit([](const auto& f) { return std::decay_t<decltype(f)>::kDim; });
+      });
+  bind::def_set_belief<A>(c);
 }
 
 template <template <class> class F, class Cls>

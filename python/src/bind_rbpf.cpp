@@ -361,6 +361,7 @@ void bind_rbpf(py::module_& m) {
           py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
           py::arg("cov"), py::arg("scheme") = SigmaScheme::scaled(), py::arg("t0") = 0.0);
     summary_methods<A>(c);
+    bind::def_set_belief<A>(c);
     c.def(
          "step",
          [](A& a, const VecX& y, const py::object& o, const py::object& sight) {
@@ -397,20 +398,6 @@ void bind_rbpf(py::module_& m) {
         .def_property_readonly(
             "scheme", [](const A& a) { return a.visit([](const auto& f) { return f.scheme(); }); },
             "The sigma-point scheme.")
-        .def(
-            "set_belief",
-            [](A& a, const VecX& mean, const MatX& cov, std::optional<double> t) {
-              a.visit([&](auto& f) {
-                constexpr int N = std::decay_t<decltype(f)>::kDim;
-                const Gaussian<N> g = to_gaussian<N>(mean, cov, "mean", "cov");
-                if (t)
-                  f.set_belief(g, *t);
-                else
-                  f.set_belief(g);
-              });
-            },
-            py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
-            "Replaces the belief (validated: finite mean, symmetric positive definite cov).")
         .def("predict", [](A& a) { a.visit([](auto& f) { f.predict(); }); })
         .def(
             "update_with_probabilities",

@@ -6,7 +6,9 @@
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 
+#include <optional>
 #include <string>
+#include <type_traits>
 #include <variant>
 
 #include "nlosloc/core/gaussian.hpp"
@@ -37,6 +39,25 @@ Gaussian<N> to_gaussian(const VecX& mean, const MatX& cov, const char* mname = "
   detail::ensure_shape(mean, N, 1, mname);
   detail::ensure_shape(cov, N, N, cname);
   return Gaussian<N>(mean, cov);
+}
+
+/// Binds set_belief(mean, cov, t=None) on a class wrapping FilterBase filters (A: a wrapper with visit()).
+template <class A, class Cls>
+void def_set_belief(Cls& c) {
+  c.def(
+      "set_belief",
+      [](A& a, const VecX& mean, const MatX& cov, std::optional<double> t) {
+        a.visit([&](auto& f) {
+          constexpr int N = std::decay_t<decltype(f)>::kDim;
+          const Gaussian<N> g = to_gaussian<N>(mean, cov, "mean", "cov");
+          if (t)
+            f.set_belief(g, *t);
+          else
+            f.set_belief(g);
+        });
+      },
+      pybind11::arg("mean"), pybind11::arg("cov"), pybind11::arg("t") = pybind11::none(),
+      "Replaces the belief (validated: finite mean, symmetric positive definite cov).");
 }
 
 }  // namespace nlosloc::bind

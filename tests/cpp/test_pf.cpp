@@ -33,6 +33,14 @@ MeasurementStack h2_stack() {
     st.add_rtoa(b, {nn::Normal(0, std::sqrt(10.0)), nn::Rayleigh::from_variance(5000)});
   return st;
 }
+/// The H2 model of the PF tests: motion, sight chains, quality, RTOA stack, initial belief.
+struct H2Setup {
+  ConstantVelocityClock2 motion{0.01, 1.0, 1e-2};
+  si::SightProcess proc{si::SightModel::speed_dependent(10, 10, 0.01), 6};
+  si::QualityModel q{{nn::Beta(4, 1.5), nn::Beta(1.5, 4)}};
+  MeasurementStack st = h2_stack();
+  Gaussian<6> g{Vec<6>::Zero(), Vec<6>(25, 25, 10, 1, 1, 10).asDiagonal().toDenseMatrix()};
+};
 double normal_cdf(double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); }
 }  // namespace
 
@@ -154,13 +162,8 @@ TEST_CASE("joint PF: sight switches follow the closed-form probabilities of eqs.
 }
 
 TEST_CASE("joint PF: lazy covariance and normalised log weights equal their definitions", "[pf]") {
-  ConstantVelocityClock2 motion(0.01, 1.0, 1e-2);
-  si::SightProcess proc(si::SightModel::speed_dependent(10, 10, 0.01), 6);
-  si::QualityModel q{{nn::Beta(4, 1.5), nn::Beta(1.5, 4)}};
-  const MeasurementStack st = h2_stack();
-  Gaussian<6> g;
-  g.mean.setZero();
-  g.cov = Vec<6>(25, 25, 10, 1, 1, 10).asDiagonal();
+  const H2Setup h;
+  const auto& [motion, proc, q, st, g] = h;
   Rng rng(2);
   for (int threads : {1, 2}) {
     PfOptions po;
@@ -195,13 +198,8 @@ TEST_CASE("joint PF: lazy covariance and normalised log weights equal their defi
 }
 
 TEST_CASE("joint PF: a rejected step changes nothing, and the next step is that of a clean filter", "[pf]") {
-  ConstantVelocityClock2 motion(0.01, 1.0, 1e-2);
-  si::SightProcess proc(si::SightModel::speed_dependent(10, 10, 0.01), 6);
-  si::QualityModel q{{nn::Beta(4, 1.5), nn::Beta(1.5, 4)}};
-  const MeasurementStack st = h2_stack();
-  Gaussian<6> g;
-  g.mean.setZero();
-  g.cov = Vec<6>(25, 25, 10, 1, 1, 10).asDiagonal();
+  const H2Setup h;
+  const auto& [motion, proc, q, st, g] = h;
   for (int threads : {1, 2}) {
     for (auto rs : {PfResampling::kSystematic, PfResampling::kMergeSelect}) {
       PfOptions po;
