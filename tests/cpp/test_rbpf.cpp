@@ -362,8 +362,13 @@ TEST_CASE("classical RBPF weights equal a brute-force enumeration (B=2, N_z=2, t
     opt.num_particles = 64;
     opt.merge = false;
     Rbpf<ConstantVelocity2> f(tc.motion, tc.st, tc.proc, tc.q, tc.g, opt);
-    for (int k = 0; k < 3; ++k)
-      f.step(tc.ys[static_cast<std::size_t>(k)], tc.os[static_cast<std::size_t>(k)]);
+    for (int k = 0, parents = 1; k < 3; ++k, parents *= 4) {
+      const RbpfStepInfo info =
+          f.step(tc.ys[static_cast<std::size_t>(k)], tc.os[static_cast<std::size_t>(k)]);
+      CHECK(info.offspring == 4 * parents);  // eq. (23): N_z^B = 4 children per particle
+      CHECK(info.ukf_runs == 4 * parents);   // Table IV: a UKF for every child
+      CHECK(f.step_index() == k + 1);
+    }
     REQUIRE(f.num_particles() == 64);
     std::vector<double> lw;
     std::vector<Vec<4>> means;
@@ -406,6 +411,61 @@ TEST_CASE("classical RBPF weights equal a brute-force enumeration (B=2, N_z=2, t
           cand.emplace_back(tc.history_logw(h2, nullptr), h2);
         }
       std::sort(cand.begin(), cand.end(), [](auto& a, auto& b) { return a.first > b.first; });
+      kept = {cand[0].second, cand[1].second};
+      const double z = log_add(cand[0].first, cand[1].first);
+      REQUIRE(f.num_particles() == 2);
+      for (int i = 0; i < 2; ++i) {
+        CHECK_THAT(f.log_weight(i), WithinAbs(cand[static_cast<std::size_t>(i)].first - z, 1e-6));
+        CHECK(f.particle_situation(i) == cand[static_cast<std::size_t>(i)].second.back());
+      }
+    }
+  }
+}
+
+TEST_CASE("bounded enumeration in the filter: each particle's best children by prior x quality",
+          "[rbpf][offspring]") {
+  // max_offspring = 2 < N_z^B = 4: every particle keeps the 2 children with the largest
+  // log P(s_t | s_t-1) + log p(o_t | s_t) (the documented bound), then the UKF weights (eq. 25) and the
+  // prune to M = 2; checked against a brute force over the same rule
+  const Tiny tc;
+  const VecX pi = tc.proc.model(0).initial();
+  auto score = [&](const std::vector<VecXi>& h, const VecXi& c) {
+    const std::size_t k = h.size();
+    double sc = 0.0;
+    for (int b = 0; b < 2; ++b) {
+      const double pr = k == 0 ? (pi.transpose() * tc.T)(c(b)) : tc.T(h.back()(b), c(b));
+      sc += std::log(pr) + tc.q.log_likelihood(tc.os[k](b), c(b));
+    }
+    return sc;
+  };
+  for (auto variant : {RbpfVariant::kClassical, RbpfVariant::kReordered}) {
+    RbpfOptions opt;
+    opt.variant = variant;
+    opt.num_particles = 2;
+    opt.max_offspring = 2;
+    opt.merge = false;
+    Rbpf<ConstantVelocity2> f(tc.motion, tc.st, tc.proc, tc.q, tc.g, opt);
+    CHECK(f.children_per_particle() == 2);
+    std::vector<std::vector<VecXi>> kept{{}};
+    for (int k = 0; k < 3; ++k) {
+      const RbpfStepInfo info =
+          f.step(tc.ys[static_cast<std::size_t>(k)], tc.os[static_cast<std::size_t>(k)]);
+      std::vector<std::pair<double, std::vector<VecXi>>> cand;
+      for (auto& h : kept) {
+        std::vector<std::pair<double, int>> by;
+        for (int c = 0; c < 4; ++c) by.emplace_back(score(h, sv(c)), c);
+        std::sort(by.begin(), by.end(), [](auto& a, auto& b) { return a.first > b.first; });
+        for (int j = 0; j < 2; ++j) {
+          auto h2 = h;
+          h2.push_back(sv(by[static_cast<std::size_t>(j)].second));
+          cand.emplace_back(tc.history_logw(h2, nullptr), h2);
+        }
+      }
+      CHECK(info.offspring == static_cast<int>(2 * kept.size()));
+      // classical: a UKF per child; reordered (Table V): only for the M kept
+      CHECK(info.ukf_runs == (variant == RbpfVariant::kClassical ? static_cast<int>(cand.size()) : 2));
+      std::sort(cand.begin(), cand.end(), [](auto& a, auto& b) { return a.first > b.first; });
+      if (variant == RbpfVariant::kReordered) break;  // its selection uses the predicted weights (eq. 32)
       kept = {cand[0].second, cand[1].second};
       const double z = log_add(cand[0].first, cand[1].first);
       REQUIRE(f.num_particles() == 2);
