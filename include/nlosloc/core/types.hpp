@@ -50,6 +50,17 @@ template <class D>
 void ensure_finite(const Eigen::DenseBase<D>& m, const char* name) {
   if (!m.allFinite()) throw_invalid_argument(std::string(name) + ": expected finite values (no NaN or inf)");
 }
+/// Throws unless v has n entries, none infinite (NaN marks a missing entry, and is allowed): "<name>:
+/// expected <expected>; got inf at <item> i". Shared by the measurement and quality-statistic checks.
+template <class D>
+void ensure_finite_or_missing(const Eigen::MatrixBase<D>& v, Eigen::Index n, const char* name,
+                              const char* expected, const char* item) {
+  ensure_shape(v, n, 1, name);
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    if (std::isinf(v[i]))
+      throw_invalid_argument(std::string(name) + ": expected " + expected + "; got inf at " + item + " " +
+                             std::to_string(i));
+}
 inline void ensure_positive(double v, const char* name) {
   if (!(v > 0.0) || !std::isfinite(v))
     throw_invalid_argument(std::string(name) + ": expected a finite value > 0, got " + std::to_string(v));

@@ -104,11 +104,7 @@ inline CholeskyStatus worse(CholeskyStatus a, CholeskyStatus b) {
 /// Throws unless y has m entries, each finite or NaN (missing).
 template <class D>
 void check_measurement(const Eigen::MatrixBase<D>& y, Eigen::Index m) {
-  ensure_shape(y, m, 1, "y");
-  for (Eigen::Index i = 0; i < y.size(); ++i)
-    if (std::isinf(y[i]))
-      throw_invalid_argument("y: expected finite values, or NaN for a missing row; got inf at row " +
-                             std::to_string(i));
+  ensure_finite_or_missing(y, m, "y", "finite values, or NaN for a missing row", "row");
 }
 
 /// Kalman update tail shared by KF, EKF and UKF. Given the predicted measurement z_hat, its covariance S

@@ -19,11 +19,8 @@ namespace nlosloc::situation {
 /// Throws unless the quality statistics `o` have B entries, each finite or NaN (missing); an infinite
 /// statistic is an input error, not an observation (it would have zero density under every condition).
 inline void check_statistics(const Eigen::Ref<const VecX>& o, Eigen::Index B) {
-  nlosloc::detail::ensure_shape(o, B, 1, "o");
-  for (Eigen::Index b = 0; b < o.size(); ++b)
-    if (std::isinf(o(b)))
-      nlosloc::detail::throw_invalid_argument(
-          "o: expected finite statistics, or NaN for a missing one; got inf at anchor " + std::to_string(b));
+  nlosloc::detail::ensure_finite_or_missing(o, B, "o", "finite statistics, or NaN for a missing one",
+                                            "anchor");
 }
 
 /// Throws unless every anchor's statistic has non-zero density under some condition (each row of the
