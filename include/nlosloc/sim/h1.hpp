@@ -218,9 +218,7 @@ class H1 : public Scenario {
     detail::ensure_positive(p.quality_nlos_b, "H1Params.quality_nlos_b");
     // the initial belief's std: > 0 so its covariance diag(initial_std^2) is SPD
     for (int i = 0; i < 4; ++i)
-      if (!(p.initial_std[i] > 0.0) || !std::isfinite(p.initial_std[i]))
-        detail::ensure_positive(p.initial_std[i],
-                                ("H1Params.initial_std[" + std::to_string(i) + "]").c_str());
+      detail::ensure_positive(p.initial_std[i], ("H1Params.initial_std[" + std::to_string(i) + "]").c_str());
     NLOSLOC_ENSURE(p.rbpf_particles >= 1,
                    "H1Params.rbpf_particles: expected >= 1, got " + std::to_string(p.rbpf_particles));
     return p;

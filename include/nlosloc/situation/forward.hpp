@@ -110,10 +110,7 @@ class ForwardFilter {
   double step(const Eigen::Ref<const VecX>& o, const Eigen::Ref<const VecX>& speeds = VecX()) {
     check_statistics(o, num_anchors());
     check_speeds(speeds);
-    back_.gamma = gamma_;  // sized once: no allocation after the first step
-    back_.pred = pred_;
-    back_.k = k_;
-    back_.log_evidence = log_evidence_;
+    save(back_);  // sized once: no allocation after the first step
     predict(speeds);
     try {
       return update(o);
