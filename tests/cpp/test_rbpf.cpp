@@ -352,6 +352,21 @@ VecXi sv(int k) {
   s << k % 2, k / 2;
   return s;
 }
+
+using Histories = std::vector<std::vector<VecXi>>;
+/// Brute-force prune to M = 2: sorts the candidate histories (log weight, history) by weight, checks the
+/// filter's two particles against the best two (renormalised weights, last situation) and returns them.
+Histories check_pruned_to_two(const Rbpf<ConstantVelocity2>& f,
+                              std::vector<std::pair<double, std::vector<VecXi>>> cand) {
+  std::sort(cand.begin(), cand.end(), [](auto& a, auto& b) { return a.first > b.first; });
+  const double z = log_add(cand[0].first, cand[1].first);
+  REQUIRE(f.num_particles() == 2);
+  for (int i = 0; i < 2; ++i) {
+    CHECK_THAT(f.log_weight(i), WithinAbs(cand[static_cast<std::size_t>(i)].first - z, 1e-6));
+    CHECK(f.particle_situation(i) == cand[static_cast<std::size_t>(i)].second.back());
+  }
+  return {cand[0].second, cand[1].second};
+}
 }  // namespace
 
 TEST_CASE("classical RBPF weights equal a brute-force enumeration (B=2, N_z=2, three steps)", "[rbpf]") {
@@ -410,14 +425,7 @@ TEST_CASE("classical RBPF weights equal a brute-force enumeration (B=2, N_z=2, t
           h2.push_back(sv(c));
           cand.emplace_back(tc.history_logw(h2, nullptr), h2);
         }
-      std::sort(cand.begin(), cand.end(), [](auto& a, auto& b) { return a.first > b.first; });
-      kept = {cand[0].second, cand[1].second};
-      const double z = log_add(cand[0].first, cand[1].first);
-      REQUIRE(f.num_particles() == 2);
-      for (int i = 0; i < 2; ++i) {
-        CHECK_THAT(f.log_weight(i), WithinAbs(cand[static_cast<std::size_t>(i)].first - z, 1e-6));
-        CHECK(f.particle_situation(i) == cand[static_cast<std::size_t>(i)].second.back());
-      }
+      kept = check_pruned_to_two(f, cand);
     }
   }
 }
@@ -464,15 +472,8 @@ TEST_CASE("bounded enumeration in the filter: each particle's best children by p
       CHECK(info.offspring == static_cast<int>(2 * kept.size()));
       // classical: a UKF per child; reordered (Table V): only for the M kept
       CHECK(info.ukf_runs == (variant == RbpfVariant::kClassical ? static_cast<int>(cand.size()) : 2));
-      std::sort(cand.begin(), cand.end(), [](auto& a, auto& b) { return a.first > b.first; });
       if (variant == RbpfVariant::kReordered) break;  // its selection uses the predicted weights (eq. 32)
-      kept = {cand[0].second, cand[1].second};
-      const double z = log_add(cand[0].first, cand[1].first);
-      REQUIRE(f.num_particles() == 2);
-      for (int i = 0; i < 2; ++i) {
-        CHECK_THAT(f.log_weight(i), WithinAbs(cand[static_cast<std::size_t>(i)].first - z, 1e-6));
-        CHECK(f.particle_situation(i) == cand[static_cast<std::size_t>(i)].second.back());
-      }
+      kept = check_pruned_to_two(f, cand);
     }
   }
 }
