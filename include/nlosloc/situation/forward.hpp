@@ -42,6 +42,7 @@ class ForwardFilter {
     ll_.resize(B, nz);
     T_.resize(nz, nz);
     reset();
+    save(back_);  // sizes step()'s undo copy: steps never allocate, not even the first
   }
 
   int num_anchors() const { return process_.num_anchors(); }
@@ -110,7 +111,7 @@ class ForwardFilter {
   double step(const Eigen::Ref<const VecX>& o, const Eigen::Ref<const VecX>& speeds = VecX()) {
     check_statistics(o, num_anchors());
     check_speeds(speeds);
-    save(back_);  // sized once: no allocation after the first step
+    save(back_);  // sized in the constructor: no allocation
     predict(speeds);
     try {
       return update(o);
