@@ -119,6 +119,49 @@ TEST_CASE("merge visiting order: the radix grouping equals the comparison sort",
   }
 }
 
+TEST_CASE("parallel bucketed merge equals merge_greedy on 1, 2 and 3 threads", "[rbpf][merge]") {
+  // 32-bit keys with many repeats spread over every bucket (a few hundred distinct values times an odd
+  // constant), log weights with ties and some already -inf, 2-D points: the absorbed count and every log
+  // weight must equal the serial greedy merge's exactly (same groups, same visiting order).
+  const int n = 20000;
+  Rng rng(7);
+  std::vector<std::uint64_t> key(static_cast<std::size_t>(n));
+  std::vector<double> lw(static_cast<std::size_t>(n)), px(static_cast<std::size_t>(n)),
+      py(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    key[u] = (rng.below(600) * 0x9E3779B1ULL) & 0xFFFFFFFFULL;
+    lw[u] = i % 11 == 0 ? -1.5
+                        : (i % 97 == 0 ? -std::numeric_limits<double>::infinity() : std::log(rng.uniform()));
+    px[u] = rng.uniform();
+    py[u] = rng.uniform();
+  }
+  auto close = [&](int a, int b) {
+    const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
+    return std::hypot(px[ua] - px[ub], py[ua] - py[ub]) < 0.05;
+  };
+  std::vector<double> ref = lw;
+  MergeWorkspace mws;
+  const int absorbed = merge_greedy(key.data(), ref.data(), n, close, mws);
+  REQUIRE(absorbed > 1000);  // the case exercises real merging
+  for (int threads : {1, 2, 3}) {
+    ThreadPool pool(threads);
+    ParallelMergeWorkspace ws;
+    std::vector<double> got = lw;
+    CHECK(merge_greedy_parallel(key.data(), got.data(), n, close, pool, ws) == absorbed);
+    CHECK(got == ref);
+  }
+  // a key of 2^32 or more is refused and no weight changes
+  ThreadPool pool(2);
+  ParallelMergeWorkspace ws;
+  std::vector<double> got = lw;
+  key[123] = std::uint64_t{1} << 32;
+  CHECK_THROWS_AS(merge_greedy_parallel(key.data(), got.data(), n, close, pool, ws), std::invalid_argument);
+  CHECK_THROWS_WITH(merge_greedy_parallel(key.data(), got.data(), n, close, pool, ws),
+                    "keys: expected values below 2^32 for merge_greedy_parallel");
+  CHECK(got == lw);
+}
+
 TEST_CASE("merge visiting order: the counting-sort grouping of narrow key ranges equals the comparison sort",
           "[rbpf][merge]") {
   // keys spanning fewer values than the counting pass accepts (the RBPF's N_z^B situations), offset from

@@ -284,6 +284,123 @@ int merge_greedy(const std::uint64_t* keys, double* logw, int n, Close&& close, 
   return absorbed;
 }
 
+/// Buffers of merge_greedy_parallel (reserve(n, threads) sizes them so a merge of up to n particles does
+/// not allocate).
+struct ParallelMergeWorkspace {
+  static constexpr int kBucketBits = 11;
+  static constexpr int kBuckets = 1 << kBucketBits;
+  std::vector<std::uint64_t> entries;  // key << 32 | index, scattered by bucket (stable: index order inside)
+  std::vector<int> offset;             // (thread, bucket) start of each thread's share of a bucket
+  std::vector<int> absorbed;           // per thread
+  std::vector<std::uint32_t> above;    // per thread: OR of the keys' bits >= 32 (input check)
+  void reserve(std::size_t n, int threads) {
+    entries.reserve(n);
+    offset.reserve(static_cast<std::size_t>(threads) * kBuckets + 1);
+    absorbed.reserve(static_cast<std::size_t>(threads));
+    above.reserve(static_cast<std::size_t>(threads));
+  }
+};
+
+/// merge_greedy for many particles with 32-bit keys, on a thread pool (`pool.parallel_for(n, fn(b, e, t))`,
+/// `pool.size()`): the particles are scattered into 2^11 buckets by the keys' top bits (one stable
+/// counting pass, each thread over its own index range), then each thread sorts its range of buckets
+/// in cache (by key, heaviest first within a key, ties by index) and merges every group greedily. Groups
+/// and their visiting order are merge_greedy's, so the result is identical to it, whatever the thread
+/// count; only the order in which groups are visited differs, and groups are independent. Replaces three
+/// radix passes over all n particles by one, and runs on all threads: the joint PF's merge of 1e6
+/// particles, where almost no group has two members, spent 90 ms of a 139 ms step in merge_greedy.
+/// `close` is called from several threads at once. Keys must be below 2^32 (std::invalid_argument).
+template <class Pool, class Close>
+int merge_greedy_parallel(const std::uint64_t* keys, double* logw, int n, Close&& close, Pool& pool,
+                          ParallelMergeWorkspace& ws) {
+  constexpr int kBuckets = ParallelMergeWorkspace::kBuckets;
+  constexpr int kShift = 32 - ParallelMergeWorkspace::kBucketBits;
+  constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+  if (n <= 0) return 0;
+  const int T = pool.size();
+  const auto TB = static_cast<std::size_t>(T) * kBuckets;
+  ws.entries.resize(static_cast<std::size_t>(n));
+  ws.offset.assign(TB + 1, 0);
+  ws.absorbed.assign(static_cast<std::size_t>(T), 0);
+  ws.above.assign(static_cast<std::size_t>(T), 0);
+  // 1. per-thread histograms of the top bits (parallel_for gives thread t the same range every call)
+  pool.parallel_for(n, [&](int b, int e, int t) {
+    int* h = ws.offset.data() + static_cast<std::size_t>(t) * kBuckets;
+    std::uint64_t hi = 0;
+    for (int i = b; i < e; ++i) {
+      hi |= keys[i] >> 32;
+      ++h[static_cast<std::uint32_t>(keys[i]) >> kShift];
+    }
+    ws.above[static_cast<std::size_t>(t)] = hi != 0 ? 1U : 0U;
+  });
+  for (const std::uint32_t a : ws.above)
+    NLOSLOC_ENSURE(a == 0, "keys: expected values below 2^32 for merge_greedy_parallel");
+  // 2. exclusive prefix over (bucket, thread): thread t's share of bucket c follows threads < t's
+  int sum = 0;
+  for (int c = 0; c < kBuckets; ++c)
+    for (int t = 0; t < T; ++t) {
+      int& o = ws.offset[static_cast<std::size_t>(t) * kBuckets + static_cast<std::size_t>(c)];
+      const int v = o;
+      o = sum;
+      sum += v;
+    }
+  // 3. stable scatter, each thread from its own index range
+  pool.parallel_for(n, [&](int b, int e, int t) {
+    int* o = ws.offset.data() + static_cast<std::size_t>(t) * kBuckets;
+    for (int i = b; i < e; ++i) {
+      const auto k = static_cast<std::uint32_t>(keys[i]);
+      ws.entries[static_cast<std::size_t>(o[k >> kShift]++)] =
+          std::uint64_t{k} << 32 | static_cast<std::uint32_t>(i);
+    }
+  });
+  // Bucket c now ends at thread (T - 1)'s offset of c; it starts where bucket c - 1 ends.
+  auto bucket_end = [&](int c) {
+    return ws.offset[static_cast<std::size_t>(T - 1) * kBuckets + static_cast<std::size_t>(c)];
+  };
+  // 4. each thread: its buckets sorted (plain integers: by key, then index), each group of two or more
+  // ordered heaviest first (ties by index: merge_greedy's visiting order), and merged greedily
+  const HeavierFirst heavier{logw};
+  auto idx_of = [](std::uint64_t v) { return static_cast<int>(v & 0xFFFFFFFFULL); };
+  pool.parallel_for(kBuckets, [&](int c0, int c1, int t) {
+    int absorbed = 0;
+    std::uint64_t* en = ws.entries.data();
+    for (int c = c0; c < c1; ++c) {
+      const int lo = c == 0 ? 0 : bucket_end(c - 1), hi = bucket_end(c);
+      std::sort(en + lo, en + hi);
+      for (int g0 = lo; g0 < hi;) {
+        int g1 = g0 + 1;
+        while (g1 < hi && en[g1] >> 32 == en[g0] >> 32) ++g1;
+        if (g1 - g0 == 1) {
+          g0 = g1;
+          continue;
+        }
+        for (int i = g0 + 1; i < g1; ++i) {  // insertion sort: groups have a few members
+          const std::uint64_t v = en[i];
+          int j = i;
+          for (; j > g0 && heavier(idx_of(v), idx_of(en[j - 1])); --j) en[j] = en[j - 1];
+          en[j] = v;
+        }
+        for (int i = g0; i + 1 < g1; ++i) {  // merge_greedy's loop on one group
+          const int a = idx_of(en[i]);
+          if (logw[a] == kNegInf) continue;
+          for (int j = i + 1; j < g1; ++j) {
+            const int b = idx_of(en[j]);
+            if (logw[b] == kNegInf || !close(a, b)) continue;
+            logw[a] = log_add(logw[a], logw[b]);  // eq. (30)
+            logw[b] = kNegInf;
+            ++absorbed;
+          }
+        }
+        g0 = g1;
+      }
+    }
+    ws.absorbed[static_cast<std::size_t>(t)] = absorbed;
+  });
+  int total = 0;
+  for (const int a : ws.absorbed) total += a;
+  return total;
+}
+
 /// Incremental selection of the M heaviest of the offered indices, by log weight then lower index. A
 /// bounded heap keeps the M heaviest offered so far (its front is the lightest kept), so an offer costs
 /// one comparison unless the entry enters. The kept set is unique under that order, whatever the order
