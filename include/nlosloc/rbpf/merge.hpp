@@ -247,6 +247,25 @@ inline void merge_order(const std::uint64_t* keys, const double* logw, int n, Me
   }
   sort_groups(N, ws, heavier);
 }
+/// The greedy merge of one group (eqs. 29-30): positions [g0, g1) in visiting order, at(i) the particle
+/// at position i; each particle not yet absorbed absorbs every later one within d_min. Returns the count.
+template <class At, class Close>
+int merge_group(int g0, int g1, At at, double* logw, Close& close) {
+  constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+  int absorbed = 0;
+  for (int i = g0; i + 1 < g1; ++i) {
+    const int a = at(i);
+    if (logw[a] == kNegInf) continue;  // absorbed (or impossible)
+    for (int j = i + 1; j < g1; ++j) {
+      const int b = at(j);
+      if (logw[b] == kNegInf || !close(a, b)) continue;
+      logw[a] = log_add(logw[a], logw[b]);  // eq. (30): w_a <- w_a + w_b
+      logw[b] = kNegInf;                    //            w_b <- 0
+      ++absorbed;
+    }
+  }
+  return absorbed;
+}
 }  // namespace detail
 
 /// Greedy merge (eqs. 29-30) of n particles with situation keys `keys`, log weights `logw` (modified in
@@ -254,7 +273,6 @@ inline void merge_order(const std::uint64_t* keys, const double* logw, int n, Me
 /// particles with equal keys; eq. 29 makes the distance infinite otherwise). Returns the number absorbed.
 template <class Close>
 int merge_greedy(const std::uint64_t* keys, double* logw, int n, Close&& close, MergeWorkspace& ws) {
-  constexpr double kNegInf = -std::numeric_limits<double>::infinity();
   if (n <= 0) return 0;
   detail::merge_order(keys, logw, n, ws);  // by key, heaviest first within a group (ties by index)
   int absorbed = 0;
@@ -268,17 +286,9 @@ int merge_greedy(const std::uint64_t* keys, double* logw, int n, Close&& close, 
       g0 = g1;
       continue;
     }
-    for (std::size_t i = g0; i < g1; ++i) {
-      const int a = ws.order[i];
-      if (logw[a] == kNegInf) continue;  // absorbed (or impossible)
-      for (std::size_t j = i + 1; j < g1; ++j) {
-        const int b = ws.order[j];
-        if (logw[b] == kNegInf || !close(a, b)) continue;
-        logw[a] = log_add(logw[a], logw[b]);  // eq. (30): w_a <- w_a + w_b
-        logw[b] = kNegInf;                    //            w_b <- 0
-        ++absorbed;
-      }
-    }
+    absorbed += detail::merge_group(
+        static_cast<int>(g0), static_cast<int>(g1),
+        [&](int i) { return ws.order[static_cast<std::size_t>(i)]; }, logw, close);
     g0 = g1;
   }
   return absorbed;
@@ -315,7 +325,6 @@ int merge_greedy_parallel(const std::uint64_t* keys, double* logw, int n, Close&
                           ParallelMergeWorkspace& ws) {
   constexpr int kBuckets = ParallelMergeWorkspace::kBuckets;
   constexpr int kShift = 32 - ParallelMergeWorkspace::kBucketBits;
-  constexpr double kNegInf = -std::numeric_limits<double>::infinity();
   if (n <= 0) return 0;
   const int T = pool.size();
   const auto TB = static_cast<std::size_t>(T) * kBuckets;
@@ -380,17 +389,8 @@ int merge_greedy_parallel(const std::uint64_t* keys, double* logw, int n, Close&
           for (; j > g0 && heavier(idx_of(v), idx_of(en[j - 1])); --j) en[j] = en[j - 1];
           en[j] = v;
         }
-        for (int i = g0; i + 1 < g1; ++i) {  // merge_greedy's loop on one group
-          const int a = idx_of(en[i]);
-          if (logw[a] == kNegInf) continue;
-          for (int j = i + 1; j < g1; ++j) {
-            const int b = idx_of(en[j]);
-            if (logw[b] == kNegInf || !close(a, b)) continue;
-            logw[a] = log_add(logw[a], logw[b]);  // eq. (30)
-            logw[b] = kNegInf;
-            ++absorbed;
-          }
-        }
+        absorbed += detail::merge_group(
+            g0, g1, [&](int i) { return idx_of(en[i]); }, logw, close);
         g0 = g1;
       }
     }
