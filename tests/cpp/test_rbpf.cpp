@@ -140,16 +140,22 @@ TEST_CASE("parallel bucketed merge equals merge_greedy on 1, 2 and 3 threads", "
     const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
     return std::hypot(px[ua] - px[ub], py[ua] - py[ub]) < 0.05;
   };
-  std::vector<double> ref = lw;
-  MergeWorkspace mws;
-  const int absorbed = merge_greedy(key.data(), ref.data(), n, close, mws);
-  REQUIRE(absorbed > 1000);  // the case exercises real merging
-  for (int threads : {1, 2, 3}) {
-    ThreadPool pool(threads);
-    ParallelMergeWorkspace ws;
-    std::vector<double> got = lw;
-    CHECK(merge_greedy_parallel(key.data(), got.data(), n, close, pool, ws) == absorbed);
-    CHECK(got == ref);
+  // Spread keys (600 values in as many buckets: the hash-table grouping), then keys below 2^21 (all in bucket
+  // 0: the sorted grouping of large buckets).
+  for (const std::uint64_t div : {std::uint64_t{1}, std::uint64_t{1} << 11}) {
+    std::vector<std::uint64_t> kd = key;
+    for (auto& v : kd) v /= div;
+    std::vector<double> ref = lw;
+    MergeWorkspace mws;
+    const int absorbed = merge_greedy(kd.data(), ref.data(), n, close, mws);
+    REQUIRE(absorbed > 1000);  // the case exercises real merging
+    for (int threads : {1, 2, 3}) {
+      ThreadPool pool(threads);
+      ParallelMergeWorkspace ws;
+      std::vector<double> got = lw;
+      CHECK(merge_greedy_parallel(kd.data(), got.data(), n, close, pool, ws) == absorbed);
+      CHECK(got == ref);
+    }
   }
   // a key of 2^32 or more is refused and no weight changes
   ThreadPool pool(2);

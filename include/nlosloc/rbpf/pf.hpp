@@ -13,9 +13,9 @@
 ///
 /// Speed (issue #3): one pass over the particles per step, in blocks on the thread pool, with bulk random
 /// numbers (BatchRng), a square-root- and division-free sight switching test, SIMD packets (Eigen's
-/// packet functions) for ranges, log densities, log and exp, and the weighted mean, situation
-/// probabilities and ESS accumulated in the same pass; the covariance is computed on request (or before a
-/// resampling) and the normalisation of the log weights is deferred to the next pass.
+/// packet functions) for ranges, log densities, log and exp, and the weighted mean, covariance, situation
+/// probabilities and ESS accumulated in the same pass; the normalisation of the log weights is deferred to
+/// the next pass.
 ///
 /// Merge-select for sampled particles (the paper applies the RBPF's rule, eqs. 29-30, to its 1e6-particle
 /// PF without details): particles are bucketed by situation vector and by the cell floor(x / d_min) of the
@@ -214,8 +214,8 @@ class ParticleFilter {
       w.zrow = VecX::Zero(meas.rows());
       w.T.resize(nz_, nz_);
     }
-    stride_ = 3 + N + B_ * nz_;
-    cparts_.resize(static_cast<std::size_t>(pool_->size() * (1 + N + kNT)));
+    k2_ = kSp + B_ * nz_;
+    stride_ = k2_ + kNT;
     for (ThreadWork& w : work_) {
       w.lw.resize(kBlock);
       w.pr.resize(kBlock);
@@ -261,7 +261,6 @@ class ParticleFilter {
     prob_.resize(B_, nz_);
     y_.resize(meas.rows());
     if (options.resampling == PfResampling::kMergeSelect) {
-      mkey_.resize(M);
       mws_.reserve(static_cast<std::size_t>(M), pool_->size());
     }
     reset(initial, t0);
@@ -343,14 +342,12 @@ class ParticleFilter {
     t_ = t;
     k_ = k;
     if (opt_.resampling == PfResampling::kMergeSelect) {
-      normalise_log_weights();
+      // The merge compares and adds weights (eq. 30), so it works on the log weights as they are (the
+      // normalisation is a shift); it keeps their sum, and resample divides by the actual sum.
       info.merged = merge_cells();
-      // The normalised weights sum to 1 and the merge moves weight without changing the sum (eq. 30);
-      // resample divides by the actual sum, so it needs no log-sum-exp pass (6.6 ms at 1e6 particles).
-      resample(0.0);
+      resample(shift_);
       info.resampled = true;
     } else if (info.ess < opt_.ess_threshold * static_cast<double>(M_)) {
-      compute_covariance();  // of the weighted set, before selection
       resample(shift_);
       info.resampled = true;
     }
@@ -360,11 +357,8 @@ class ParticleFilter {
   int num_particles() const { return M_; }
   /// Weighted mean of the particles (after the last weighting).
   const State& estimate() const { return est_; }
-  /// Weighted covariance of the particles after the last weighting (computed on first request: one pass).
-  const Cov& covariance() const {
-    if (!cov_ready_) compute_covariance();
-    return est_cov_;
-  }
+  /// Weighted covariance of the particles after the last weighting (summed in the step's pass).
+  const Cov& covariance() const { return est_cov_; }
   Gaussian<N> belief() const { return {est_, covariance()}; }
   /// P(s_b = z), B x N_z.
   const MatX& situation_probabilities() const { return prob_; }
@@ -701,7 +695,8 @@ class ParticleFilter {
   }
 
   /// Adds a weight exp(lw - running max) to the accumulators: [max, sum w, sum w^2, sum w xc (N),
-  /// situation sums (B x N_z)]; xc = x - centre_ (the previous estimate).
+  /// situation sums (B x N_z), sum w xc xc^T (upper triangle, row by row)]; xc = x - centre_ (the previous
+  /// estimate).
   /// With `sd`, the lanes hold s in {0, 1} and only the N_z = 2 entry w s_b is summed; returns w.
   template <class P>
   P accumulate(double* a, const P& lw, const P* xc, const double* sd) const {
@@ -721,7 +716,12 @@ class ParticleFilter {
     auto add = [&](int q, const P& v) { ei::pstoreu(a + q * W, ei::padd(ld<P>(a + q * W), v)); };
     add(1, w);
     add(2, ei::pmul(w, w));
-    for (int d = 0; d < N; ++d) add(3 + d, ei::pmul(w, xc[d]));
+    const P live = ei::pcmp_lt(ei::pzero(w), w);  // weight 0 adds nothing, even with a non-finite state
+    for (int d = 0, q = k2_; d < N; ++d) {
+      const P wx = ei::pselect(live, ei::pmul(w, xc[d]), ei::pzero(w));
+      add(3 + d, wx);
+      for (int e = d; e < N; ++e) add(q++, ei::pselect(live, ei::pmul(wx, xc[e]), ei::pzero(w)));
+    }
     if (sd != nullptr)
       for (int b = 0; b < B_; ++b)
         add(kSp + 2 * b + 1, ei::pmul(w, ld<P>(sd + static_cast<std::size_t>(b) * kBlock)));
@@ -815,30 +815,42 @@ class ParticleFilter {
     if (a[0] == ninf) return;  // every weight so far is zero
     // weights and moments about centre_: sum w, w^2, w xc, w xc xc^T, w s_b
     const double m = a[0];
-    Packet s0 = ei::pzero(Packet()), s00 = s0, s1[N], sp[64];
+    Packet s0 = ei::pzero(Packet()), s00 = s0, s1[N], s2[kNT], sp[64];
     for (int d = 0; d < N; ++d) s1[d] = s0;
+    for (int q = 0; q < kNT; ++q) s2[q] = s0;
     for (int b = 0; b < B_; ++b) sp[b] = s0;
     const double* xs[N];
     for (int d = 0; d < N; ++d) xs[d] = &nx_[idx(d, i0)];
-    auto mom = [&](auto q0, int j, auto* S0, auto* S00, auto* S1, auto* SP) {
+    auto mom = [&](auto q0, int j, auto* S0, auto* S00, auto* S1, auto* S2, auto* SP) {
       using Q = decltype(q0);
       const Q wj = wexp<Q>(ei::psub(ld<Q>(lwo + j), cst<Q>(m)));
       *S0 = ei::padd(*S0, wj);
       *S00 = ei::padd(*S00, ei::pmul(wj, wj));
+      // weight 0: the particle adds nothing, even with a non-finite state
+      const Q live = ei::pcmp_lt(ei::pzero(q0), wj);
+      Q xc[N];
       for (int d = 0; d < N; ++d)
-        S1[d] = ei::padd(S1[d], ei::pmul(wj, ei::psub(ld<Q>(xs[d] + j), cst<Q>(centre_(d)))));
+        xc[d] = ei::pselect(live, ei::psub(ld<Q>(xs[d] + j), cst<Q>(centre_(d))), ei::pzero(q0));
+      int q = 0;
+      for (int d = 0; d < N; ++d) {
+        const Q wx = ei::pmul(wj, xc[d]);
+        S1[d] = ei::padd(S1[d], wx);
+        for (int e = d; e < N; ++e, ++q) S2[q] = ei::padd(S2[q], ei::pmul(wx, xc[e]));
+      }
       for (int b = 0; b < B_; ++b)
         SP[b] = ei::padd(SP[b], ei::pmul(wj, ld<Q>(&w.sd[static_cast<std::size_t>(b) * kBlock + j])));
     };
     int j = 0;
-    for (; j + kLanes <= n; j += kLanes) mom(s0, j, &s0, &s00, s1, sp);
-    double t0 = ei::predux(s0), t00 = ei::predux(s00), t1[N], tp2[64];
+    for (; j + kLanes <= n; j += kLanes) mom(s0, j, &s0, &s00, s1, s2, sp);
+    double t0 = ei::predux(s0), t00 = ei::predux(s00), t1[N], t2[kNT], tp2[64];
     for (int d = 0; d < N; ++d) t1[d] = ei::predux(s1[d]);
+    for (int q = 0; q < kNT; ++q) t2[q] = ei::predux(s2[q]);
     for (int b = 0; b < B_; ++b) tp2[b] = ei::predux(sp[b]);
-    for (; j < n; ++j) mom(0.0, j, &t0, &t00, t1, tp2);
+    for (; j < n; ++j) mom(0.0, j, &t0, &t00, t1, t2, tp2);
     a[1] += t0;
     a[2] += t00;
     for (int d = 0; d < N; ++d) a[3 + d] += t1[d];
+    for (int q = 0; q < kNT; ++q) a[k2_ + q] += t2[q];
     for (int b = 0; b < B_; ++b) a[kSp + 2 * b + 1] += tp2[b];
   }
 
@@ -909,46 +921,19 @@ class ParticleFilter {
     if (!std::isfinite(g + std::log(sw))) return g + std::log(sw);  // rejected: the summary is kept
     ess = sw * sw / tot_[2];
     State m1;
-    for (int d = 0; d < N; ++d) m1(d) = tot_[static_cast<std::size_t>(3 + d)] / sw;
+    Cov m2;
+    for (int d = 0, q = k2_; d < N; ++d) {
+      m1(d) = tot_[static_cast<std::size_t>(3 + d)] / sw;
+      for (int e = d; e < N; ++e, ++q) m2(d, e) = m2(e, d) = tot_[static_cast<std::size_t>(q)] / sw;
+    }
     est_ = centre_ + m1;
-    cov_ready_ = false;
+    // Weighted covariance from the raw moments about centre_ (the previous estimate, close to the new
+    // one, so the difference loses little precision): the pass sums them, no second pass over the states.
+    est_cov_ = m2 - m1 * m1.transpose();
+    nlosloc::detail::symmetrize(est_cov_);
     for (int b = 0; b < B_; ++b)
       for (int z = 0; z < nz_; ++z) prob_(b, z) = tot_[static_cast<std::size_t>(kSp + b * nz_ + z)] / sw;
     return g + std::log(sw);
-  }
-
-  /// Weighted covariance of the current particles and weights exp(logw_ - shift_), about est_, on the pool.
-  void compute_covariance() const {
-    constexpr int st = 1 + N + kNT;
-    std::fill(cparts_.begin(), cparts_.end(), 0.0);  // a thread with an empty chunk is not called
-    pool_->parallel_for(M_, [&](int b0, int e0, int th) {
-      double* a = &cparts_[static_cast<std::size_t>(th * st)];
-      for (int i = b0; i < e0; ++i) {
-        const double wi = std::exp(logw_(i) - shift_);
-        if (wi == 0.0) continue;
-        double xc[N];
-        for (int d = 0; d < N; ++d) xc[d] = x_[idx(d, i)] - est_(d);
-        a[0] += wi;
-        int q = 1 + N;
-        for (int d = 0; d < N; ++d) {
-          a[1 + d] += wi * xc[d];
-          for (int e = d; e < N; ++e, ++q) a[q] += wi * xc[d] * xc[e];
-        }
-      }
-    });
-    double tot[st] = {};
-    for (int t = 0; t < pool_->size(); ++t)
-      for (int q = 0; q < st; ++q) tot[q] += cparts_[static_cast<std::size_t>(t * st + q)];
-    State m1;
-    Cov m2;
-    int q = 1 + N;
-    for (int d = 0; d < N; ++d) {
-      m1(d) = tot[1 + d] / tot[0];
-      for (int e = d; e < N; ++e, ++q) m2(d, e) = m2(e, d) = tot[q] / tot[0];
-    }
-    est_cov_ = m2 - m1 * m1.transpose();
-    nlosloc::detail::symmetrize(est_cov_);
-    cov_ready_ = true;
   }
 
   /// Applies the deferred normalisation (logw_ -= shift_).
@@ -976,7 +961,6 @@ class ParticleFilter {
     est_ = m1;
     est_cov_ = m2 - m1 * m1.transpose();
     nlosloc::detail::symmetrize(est_cov_);
-    cov_ready_ = true;
   }
 
   /// Systematic resampling of the weights exp(logw_ - z), on the pool: each thread takes the pointers
@@ -986,16 +970,22 @@ class ParticleFilter {
     std::fill(csum_.begin(), csum_.end(), 0.0);  // a thread with an empty chunk is not called
     std::fill(cbeg_.begin(), cbeg_.end(), 0);
     std::fill(cend_.begin(), cend_.end(), 0);
+    const double lw_equal = -std::log(static_cast<double>(M_));
     pool_->parallel_for(M_, [&](int b0, int e0, int th) {
       int i = b0;
       Packet acc = ei::pzero(cst<Packet>(0.0));
+      // the weights, and the resampled set's equal log weights in their place (read only here)
       for (; i + kLanes <= e0; i += kLanes) {
         const Packet wi = wexp<Packet>(ei::psub(ld<Packet>(&logw_(i)), cst<Packet>(z)));
         ei::pstoreu(&w_(i), wi);
+        ei::pstoreu(&logw_(i), cst<Packet>(lw_equal));
         acc = ei::padd(acc, wi);
       }
       double s = ei::predux(acc);
-      for (; i < e0; ++i) s += (w_(i) = wexp<double>(logw_(i) - z));
+      for (; i < e0; ++i) {
+        s += (w_(i) = wexp<double>(logw_(i) - z));
+        logw_(i) = lw_equal;
+      }
       csum_[static_cast<std::size_t>(th)] = s;
       cbeg_[static_cast<std::size_t>(th)] = b0;
       cend_[static_cast<std::size_t>(th)] = e0;
@@ -1020,7 +1010,6 @@ class ParticleFilter {
     });
     std::swap(x_, nx_);
     std::swap(s_, ns_);
-    logw_.setConstant(-std::log(static_cast<double>(M_)));
     shift_ = 0.0;
   }
 
@@ -1043,18 +1032,16 @@ class ParticleFilter {
         opt_.merge_threshold >= 0.0 ? opt_.merge_threshold : default_merge_threshold(pos_var, M_);
     if (!(d > 0.0)) return 0;
     const double inv_d = 1.0 / d;
-    // Bucket key: FNV-1a over the situation and the grid cell, folded to 32 bits (so the radix grouping
-    // needs 3 passes). A collision only puts two buckets in one group: close() still checks eq. (29).
-    pool_->parallel_for(M_, [&](int b0, int e0, int) {
-      for (int i = b0; i < e0; ++i) {
-        std::uint64_t h = 1469598103934665603ULL;
-        for (int b = 0; b < B_; ++b) h = (h ^ s_[sidx(b, i)]) * 1099511628211ULL;
-        for (int e = 0; e < N; ++e) h = (h ^ cell_index(x_[idx(e, i)] * inv_d)) * 1099511628211ULL;
-        mkey_[static_cast<std::size_t>(i)] = (h ^ (h >> 32)) & 0xFFFFFFFFULL;
-      }
-    });
-    return merge_greedy_parallel(
-        mkey_.data(), logw_.data(), M_,
+    // Bucket key: FNV-1a over the situation and the grid cell, folded to 32 bits, computed by the merge's
+    // first pass. A collision only puts two buckets in one group: close() still checks eq. (29).
+    return merge_greedy_parallel_by(
+        [&](int i) {
+          std::uint64_t h = 1469598103934665603ULL;
+          for (int b = 0; b < B_; ++b) h = (h ^ s_[sidx(b, i)]) * 1099511628211ULL;
+          for (int e = 0; e < N; ++e) h = (h ^ cell_index(x_[idx(e, i)] * inv_d)) * 1099511628211ULL;
+          return (h ^ (h >> 32)) & 0xFFFFFFFFULL;
+        },
+        logw_.data(), M_,
         [&](int a, int b) {
           for (int bb = 0; bb < B_; ++bb)
             if (s_[sidx(bb, a)] != s_[sidx(bb, b)]) return false;  // eq. (29): different situation
@@ -1076,7 +1063,7 @@ class ParticleFilter {
   situation::QualityModel quality_;
   PfOptions opt_;
   std::unique_ptr<ThreadPool> pool_;  // stable address for the workers; the filter stays movable
-  int M_ = 0, B_ = 0, nz_ = 0, nq_ = 0, stride_ = 0;
+  int M_ = 0, B_ = 0, nz_ = 0, nq_ = 0, stride_ = 0, k2_ = 0;  // k2_: second moments in an accumulator row
   bool fast2d_ = false;    // all chains speed-dependent LOS/NLOS in 2-D: switch test without sqrt/division
   bool fastlik_ = false;   // every noise Normal or Rayleigh: closed-form log densities
   bool fastrows_ = false;  // and N_z = 2 with range rows only: vectorised weights
@@ -1107,12 +1094,9 @@ class ParticleFilter {
   std::vector<int> cbeg_, cend_;
   MatX Lq_, T_, prob_;
   VecX y_;
-  std::vector<std::uint64_t> mkey_;
   ParallelMergeWorkspace mws_;
   State est_ = State::Zero(), centre_ = State::Zero();
-  mutable Cov est_cov_ = Cov::Zero();
-  mutable bool cov_ready_ = false;
-  mutable std::vector<double> cparts_;  // per-thread partial sums of compute_covariance()
+  Cov est_cov_ = Cov::Zero();
 };
 
 }  // namespace nlosloc::rbpf
