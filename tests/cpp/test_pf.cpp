@@ -197,6 +197,60 @@ TEST_CASE("joint PF: lazy covariance and normalised log weights equal their defi
   }
 }
 
+TEST_CASE("joint PF: the resampled set is the systematic resampling of the weighted one", "[pf]") {
+  // Two filters with one seed draw the same weighted set in their first step (the resampling draws from
+  // another stream); the one that resamples (ess_threshold = 1) must hold copies of those particles, each
+  // i about M w_i times (systematic: |copies - M w_i| < 1), with their situations. Its copy is deferred to
+  // the next pass (ancestors), so this also checks particles() and situations() through the ancestors.
+  const H2Setup h;
+  const auto& [motion, proc, q, st, g] = h;
+  for (int threads : {1, 2}) {
+    PfOptions keep, res;
+    keep.num_particles = res.num_particles = 3000;
+    keep.threads = res.threads = threads;
+    keep.ess_threshold = 0.0;
+    res.ess_threshold = 1.0;
+    ParticleFilter<ConstantVelocityClock2> a(motion, st, proc, q, g, keep), b(motion, st, proc, q, g, res);
+    VecX y(6), o = VecX::Constant(6, 0.7);
+    Rng rng(5);
+    for (int k = 0; k < 2; ++k) {
+      for (int i = 0; i < 6; ++i) y(i) = 3000.0 + 3.0 * rng.normal();
+      const PfStepInfo ia = a.step(y, o), ib = b.step(y, o);
+      REQUIRE(ib.resampled);
+      if (k == 0) {
+        CHECK(ia.log_likelihood == ib.log_likelihood);
+        const MatX XA = a.particles(), XB = b.particles();
+        const Eigen::MatrixXi SA = a.situations(), SB = b.situations();
+        const VecX w = a.log_weights().array().exp();
+        std::vector<std::pair<double, int>> byx;  // a's particles by first component (distinct reals)
+        for (int i = 0; i < XA.cols(); ++i) byx.emplace_back(XA(0, i), i);
+        std::sort(byx.begin(), byx.end());
+        std::vector<int> copies(static_cast<std::size_t>(XA.cols()), 0);
+        bool all_found = true, same = true;
+        for (int j = 0; j < XB.cols(); ++j) {
+          const auto it = std::lower_bound(byx.begin(), byx.end(), std::make_pair(XB(0, j), -1));
+          if (it == byx.end() || it->first != XB(0, j)) {
+            all_found = false;
+            continue;
+          }
+          ++copies[static_cast<std::size_t>(it->second)];
+          same = same && XB.col(j) == XA.col(it->second) && SB.col(j) == SA.col(it->second);
+        }
+        CHECK(all_found);
+        CHECK(same);
+        double worst = 0.0;
+        for (int i = 0; i < XA.cols(); ++i)
+          worst = std::max(worst, std::abs(copies[static_cast<std::size_t>(i)] - 3000.0 * w(i)));
+        CHECK(worst < 1.0 + 1e-9);
+        CHECK((b.log_weights().array() == -std::log(3000.0)).all());
+      } else {
+        // the next pass moved the gathered ancestors: b's new estimate is finite and near a's
+        CHECK((b.estimate() - a.estimate()).head<2>().norm() < 1.0);
+      }
+    }
+  }
+}
+
 TEST_CASE("joint PF: a rejected step changes nothing, and the next step is that of a clean filter", "[pf]") {
   const H2Setup h;
   const auto& [motion, proc, q, st, g] = h;

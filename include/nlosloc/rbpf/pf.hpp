@@ -7,9 +7,10 @@
 /// merge-and-select adapted to sampled particles.
 ///
 /// Layout: structure of arrays (state component d of particle i at x[d * M + i], anchor b's condition at
-/// s[b * M + i]), double buffers (the moved states and the resampled set are written to the second one),
-/// all allocated at construction: step() does not allocate (the optional merge sorts in preallocated
-/// buffers).
+/// s[b * M + i]), double buffers (the pass writes the moved states to the second one), all allocated at
+/// construction: step() does not allocate (the optional merge groups in preallocated buffers). A
+/// resampling only writes the ancestors; the next pass gathers them block by block (one pass over the
+/// states less per step; particles() and situations() read through them meanwhile).
 ///
 /// Speed (issue #3): one pass over the particles per step, in blocks on the thread pool, with bulk random
 /// numbers (BatchRng), a square-root- and division-free sight switching test, SIMD packets (Eigen's
@@ -211,6 +212,9 @@ class ParticleFilter {
       w.u.resize(static_cast<std::size_t>(B_) * kBlock);
       w.z.resize(static_cast<std::size_t>(std::max(nq_, 1)) * kBlock);
       w.sd.resize(static_cast<std::size_t>(B_) * kBlock);
+      w.xg.resize(static_cast<std::size_t>(N) * kBlock);
+      w.sg.resize(static_cast<std::size_t>(B_) * kBlock);
+      w.sb.resize(static_cast<std::size_t>(B_));
       w.zrow = VecX::Zero(meas.rows());
       w.T.resize(nz_, nz_);
     }
@@ -291,6 +295,7 @@ class ParticleFilter {
       brng_[static_cast<std::size_t>(t)] = BatchRng(rng_[static_cast<std::size_t>(t)]);
     logw_.setConstant(-std::log(static_cast<double>(M_)));
     shift_ = 0.0;
+    resampled_ = false;
     t_ = t0;
     k_ = 0;
     summarise();
@@ -337,6 +342,7 @@ class ParticleFilter {
     std::swap(x_, nx_);
     std::swap(s_, ns_);
     std::swap(logw_, nlogw_);
+    resampled_ = false;  // the pass read the last resampling's ancestors
     info.log_likelihood = z;
     shift_ = z;  // logw_ - shift_ are the normalised log weights
     t_ = t;
@@ -368,11 +374,16 @@ class ParticleFilter {
     return s;
   }
   /// Particle states as an N x M matrix (a copy), situations B x M, normalised log weights.
-  MatX particles() const { return Eigen::Map<const MatX>(x_.data(), M_, N).transpose(); }
+  MatX particles() const {
+    MatX X(N, M_);
+    for (int d = 0; d < N; ++d)
+      for (int i = 0; i < M_; ++i) X(d, i) = x_[idx(d, ancestor(i))];
+    return X;
+  }
   Eigen::MatrixXi situations() const {
     Eigen::MatrixXi s(B_, M_);
     for (int b = 0; b < B_; ++b)
-      for (int i = 0; i < M_; ++i) s(b, i) = s_[sidx(b, i)];
+      for (int i = 0; i < M_; ++i) s(b, i) = s_[sidx(b, ancestor(i))];
     return s;
   }
   /// Normalised log weights (applies the deferred normalisation of the last step, O(M) once).
@@ -416,9 +427,40 @@ class ParticleFilter {
     std::vector<double> u, z, sd;  // block buffers: uniforms (B x block), normals (rank Q x block), s as 0/1
     std::vector<double> lw, pr;    // block buffers of the fast weights: log density sums, Rayleigh products
     std::vector<double> sacc;      // accumulators of the scalar tails and the generic path
+    std::vector<double> xg;        // the block's resampled states (N x block; load_block)
+    std::vector<std::uint8_t> sg;  // the block's resampled situations (B x block)
+    const double* xb[N] = {};      // the block's state rows: x_ itself, or xg after a resampling
+    std::vector<const std::uint8_t*> sb;  // the block's situation rows
     VecX zrow;
     MatX T;
   };
+
+  /// Particle i of the current set in x_ / s_: after a resampling its ancestor (the copy is deferred to the
+  /// next pass, which gathers each block's ancestors: one pass over the states less per step).
+  int ancestor(int i) const { return resampled_ ? anc_[static_cast<std::size_t>(i)] : i; }
+
+  /// Points w.xb / w.sb at particles [i0, i0 + n) of the current set: rows of x_ / s_, or after a resampling
+  /// their ancestors gathered into w.xg / w.sg (monotone indices: an almost sequential read).
+  void load_block(int i0, int n, ThreadWork& w) const {
+    if (!resampled_) {
+      for (int d = 0; d < N; ++d) w.xb[d] = &x_[idx(d, i0)];
+      for (int b = 0; b < B_; ++b) w.sb[static_cast<std::size_t>(b)] = &s_[sidx(b, i0)];
+      return;
+    }
+    const int* a = &anc_[static_cast<std::size_t>(i0)];
+    for (int d = 0; d < N; ++d) {
+      double* o = &w.xg[static_cast<std::size_t>(d) * kBlock];
+      const double* xd = &x_[idx(d, 0)];
+      for (int j = 0; j < n; ++j) o[j] = xd[a[j]];
+      w.xb[d] = o;
+    }
+    for (int b = 0; b < B_; ++b) {
+      std::uint8_t* o = &w.sg[static_cast<std::size_t>(b) * kBlock];
+      const std::uint8_t* sd = &s_[sidx(b, 0)];
+      for (int j = 0; j < n; ++j) o[j] = sd[a[j]];
+      w.sb[static_cast<std::size_t>(b)] = o;
+    }
+  }
 
   std::size_t idx(int d, int i) const {
     return static_cast<std::size_t>(d) * static_cast<std::size_t>(M_) + static_cast<std::size_t>(i);
@@ -509,21 +551,22 @@ class ParticleFilter {
       const int ku = (n + 3) / 4 * 4;  // uniforms per anchor in this block (fill_uniform needs 4 | count)
       rng.fill_uniform(w.u.data(), B_ * ku);
       rng.fill_normal(w.z.data(), nq_ * n);
+      load_block(i0, n, w);
       // 1. situation transition from the previous state (eqs. 9-10, 15-18 / 16)
       int j = 0;
       if (fast2d_) {
         for (int b = 0; b < B_; ++b) {  // conditions as 0/1 doubles (a loop the compiler vectorises)
-          const std::uint8_t* sb = &s_[sidx(b, i0)];
+          const std::uint8_t* sb = w.sb[static_cast<std::size_t>(b)];
           double* sd = &w.sd[static_cast<std::size_t>(b) * kBlock];
           for (int jj = 0; jj < n; ++jj) sd[jj] = sb[jj];
         }
         bool flip = false;
-        for (; j + kLanes <= n; j += kLanes) flip |= sight_fast<Packet>(i0, j, ku, w);
-        for (; j < n; ++j) flip |= sight_fast<double>(i0, j, ku, w);
+        for (; j + kLanes <= n; j += kLanes) flip |= sight_fast<Packet>(j, ku, w);
+        for (; j < n; ++j) flip |= sight_fast<double>(j, ku, w);
         for (int b = 0; b < B_; ++b) {
           std::uint8_t* nb = &ns_[sidx(b, i0)];
           if (!flip) {
-            std::copy_n(&s_[sidx(b, i0)], n, nb);
+            std::copy_n(w.sb[static_cast<std::size_t>(b)], n, nb);
             continue;
           }
           const double* sd = &w.sd[static_cast<std::size_t>(b) * kBlock];
@@ -560,11 +603,10 @@ class ParticleFilter {
   }
 
   template <class P>
-  bool sight_fast(int i0, int j, int ku, ThreadWork& w) {
+  bool sight_fast(int j, int ku, ThreadWork& w) {
     namespace ei = Eigen::internal;
     const auto& L = meas_.layout();
-    const int i = i0 + j;
-    const P vx = ld<P>(&x_[idx(L.velocity, i)]), vy = ld<P>(&x_[idx(L.velocity + 1, i)]);
+    const P vx = ld<P>(w.xb[L.velocity] + j), vy = ld<P>(w.xb[L.velocity + 1] + j);
     const P v2 = ei::padd(ei::pmul(vx, vx), ei::pmul(vy, vy));
     const P V = ei::psqrt(v2);
     // pbar(|v|) with a relative margin of 1e-9 (so rounding never makes the pre-test reject a switch)
@@ -575,7 +617,7 @@ class ParticleFilter {
     for (int b = 0; b < B_; ++b)
       any = ei::por(any, ei::pcmp_lt(ld<P>(&w.u[static_cast<std::size_t>(b * ku + j)]), pbar));
     if (!ei::predux_any(any)) return false;
-    const P px = ld<P>(&x_[idx(L.position, i)]), py = ld<P>(&x_[idx(L.position + 1, i)]);
+    const P px = ld<P>(w.xb[L.position] + j), py = ld<P>(w.xb[L.position + 1] + j);
     const P half = cst<P>(0.5), one = cst<P>(1.0);
     for (int b = 0; b < B_; ++b) {
       const SwitchCoef& c = coef_[static_cast<std::size_t>(b)];
@@ -610,14 +652,14 @@ class ParticleFilter {
     const auto& L = meas_.layout();
     const int i = i0 + j;
     for (int b = 0; b < B_; ++b) {
-      const std::uint8_t sb = s_[sidx(b, i)];
+      const std::uint8_t sb = w.sb[static_cast<std::size_t>(b)][j];
       const double u = w.u[static_cast<std::size_t>(b * ku + j)];
       int nj = 0;
       if (speed) {
         double p[3], v[3];
         for (int e = 0; e < L.space_dim; ++e) {
-          p[e] = x_[idx(L.position + e, i)];
-          v[e] = x_[idx(L.velocity + e, i)];
+          p[e] = w.xb[L.position + e][j];
+          v[e] = w.xb[L.velocity + e][j];
         }
         const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>> pm(p, L.space_dim),
             vm(v, L.space_dim);
@@ -641,7 +683,7 @@ class ParticleFilter {
       double v[N + N];
       int ne = 0;
       for (int e = fbeg_[r]; e < fbeg_[r + 1]; ++e, ++ne) {
-        src[ne] = &x_[idx(fent_[static_cast<std::size_t>(e)].col, i0)];
+        src[ne] = w.xb[fent_[static_cast<std::size_t>(e)].col];
         v[ne] = fent_[static_cast<std::size_t>(e)].v;
       }
       for (int e = gbeg_[r]; e < gbeg_[r + 1]; ++e, ++ne) {
@@ -998,18 +1040,12 @@ class ParticleFilter {
       for (int t = t0; t < t1; ++t) {
         double c0 = 0.0;
         for (int q = 0; q < t; ++q) c0 += csum_[static_cast<std::size_t>(q)];
-        const auto [jb, je] = systematic_resample_chunk(
-            w_, cbeg_[static_cast<std::size_t>(t)], cend_[static_cast<std::size_t>(t)], c0,
-            c0 + csum_[static_cast<std::size_t>(t)], total, M_, u0, t, T, anc_.data());
-        if (jb >= je) continue;
-        for (int d = 0; d < N; ++d)
-          for (int jj = jb; jj < je; ++jj) nx_[idx(d, jj)] = x_[idx(d, anc_[static_cast<std::size_t>(jj)])];
-        for (int b = 0; b < B_; ++b)
-          for (int jj = jb; jj < je; ++jj) ns_[sidx(b, jj)] = s_[sidx(b, anc_[static_cast<std::size_t>(jj)])];
+        systematic_resample_chunk(w_, cbeg_[static_cast<std::size_t>(t)], cend_[static_cast<std::size_t>(t)],
+                                  c0, c0 + csum_[static_cast<std::size_t>(t)], total, M_, u0, t, T,
+                                  anc_.data());
       }
     });
-    std::swap(x_, nx_);
-    std::swap(s_, ns_);
+    resampled_ = true;  // particle j is now x_ / s_ of anc_[j] (ancestor(); the next pass gathers them)
     shift_ = 0.0;
   }
 
@@ -1085,6 +1121,7 @@ class ParticleFilter {
   double prior_shift_ = 0.0;
   VecX w_;
   std::vector<int> anc_;
+  bool resampled_ = false;  // the current set is x_ / s_ through anc_ (ancestor())
   Eigen::Matrix<double, N, Eigen::Dynamic> G_;
   std::vector<Rng> rng_;
   std::vector<BatchRng> brng_;
