@@ -201,7 +201,8 @@ TEST_CASE("joint PF: the resampled set is the systematic resampling of the weigh
   // Two filters with one seed draw the same weighted set in their first step (the resampling draws from
   // another stream); the one that resamples (ess_threshold = 1) must hold copies of those particles, each
   // i about M w_i times (systematic: |copies - M w_i| < 1), with their situations. Its copy is deferred to
-  // the next pass (ancestors), so this also checks particles() and situations() through the ancestors.
+  // the next pass (ancestors), so this also checks particles(), situations() and the covariance of the
+  // weighted set (computed on request) through them.
   const H2Setup h;
   const auto& [motion, proc, q, st, g] = h;
   for (int threads : {1, 2}) {
@@ -243,6 +244,9 @@ TEST_CASE("joint PF: the resampled set is the systematic resampling of the weigh
           worst = std::max(worst, std::abs(copies[static_cast<std::size_t>(i)] - 3000.0 * w(i)));
         CHECK(worst < 1.0 + 1e-9);
         CHECK((b.log_weights().array() == -std::log(3000.0)).all());
+        // b's covariance is that of the weighted set, computed after its resampling (deferred copy)
+        CHECK((b.covariance() - a.covariance()).cwiseAbs().maxCoeff() <=
+              1e-9 * a.covariance().cwiseAbs().maxCoeff());
       } else {
         // the next pass moved the gathered ancestors: b's new estimate is finite and near a's
         CHECK((b.estimate() - a.estimate()).head<2>().norm() < 1.0);

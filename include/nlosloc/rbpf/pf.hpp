@@ -19,10 +19,11 @@
 /// the next pass.
 ///
 /// Merge-select for sampled particles (the paper applies the RBPF's rule, eqs. 29-30, to its 1e6-particle
-/// PF without details): particles are bucketed by situation vector and by the cell floor(x / d_min) of the
-/// state grid, and inside a bucket the greedy merge of merge.hpp moves weight from lighter to heavier
-/// particles within d_min (pairs split by a cell boundary are not merged: a documented approximation that
-/// keeps the cost linear); the merged set is then brought back to M particles by systematic resampling.
+/// PF without details): particles are bucketed by situation vector and by the cell floor(x / w) of a state
+/// grid (w: the last step's d_min, so the weighting pass computes the keys while the states are in cache),
+/// and inside a bucket the greedy merge of merge.hpp moves weight from lighter to heavier particles within
+/// this step's d_min (pairs split by a cell boundary are not merged: a documented approximation that keeps
+/// the cost linear); the merged set is then brought back to M particles by systematic resampling.
 ///
 /// Row types: every row whose noise is one distribution selected by its own anchor (TOA, RTOA, AOA, AOA
 /// phase, linear). TDOA (difference of two noises) and two-way ranging rows are rejected: their densities
@@ -219,7 +220,8 @@ class ParticleFilter {
       w.T.resize(nz_, nz_);
     }
     k2_ = kSp + B_ * nz_;
-    stride_ = k2_ + kNT;
+    stride_ = k2_ + meas.layout().space_dim;
+    cparts_.resize(static_cast<std::size_t>(pool_->size() * kCovStride));
     for (ThreadWork& w : work_) {
       w.lw.resize(kBlock);
       w.pr.resize(kBlock);
@@ -266,6 +268,7 @@ class ParticleFilter {
     y_.resize(meas.rows());
     if (options.resampling == PfResampling::kMergeSelect) {
       mws_.reserve(static_cast<std::size_t>(M), pool_->size());
+      mkey_.resize(static_cast<std::size_t>(M));
     }
     reset(initial, t0);
   }
@@ -323,6 +326,13 @@ class ParticleFilter {
     }
     if (fastrows_) prepare_rows();
     centre_ = est_;
+    if (opt_.resampling == PfResampling::kMergeSelect) {
+      // Grid of the merge's buckets: eq. (31)'s d_min of the last weighted set (this step's is known only
+      // after the pass that computes the keys; the merge itself tests this step's d_min)
+      const double d =
+          opt_.merge_threshold >= 0.0 ? opt_.merge_threshold : default_merge_threshold(pos_var_, M_);
+      inv_cell_ = d > 0.0 && std::isfinite(1.0 / d) ? 1.0 / d : 0.0;
+    }
     prior_shift_ = shift_;
     for (int th = 0; th < pool_->size();
          ++th)  // rows of threads with an empty chunk (M < threads) stay empty
@@ -363,8 +373,12 @@ class ParticleFilter {
   int num_particles() const { return M_; }
   /// Weighted mean of the particles (after the last weighting).
   const State& estimate() const { return est_; }
-  /// Weighted covariance of the particles after the last weighting (summed in the step's pass).
-  const Cov& covariance() const { return est_cov_; }
+  /// Weighted covariance of the particles after the last weighting (after the merge, in merge-select mode;
+  /// before any resampling), computed on first request: one pass over the states.
+  const Cov& covariance() const {
+    if (!cov_ready_) compute_covariance();
+    return est_cov_;
+  }
   Gaussian<N> belief() const { return {est_, covariance()}; }
   /// P(s_b = z), B x N_z.
   const MatX& situation_probabilities() const { return prob_; }
@@ -577,6 +591,7 @@ class ParticleFilter {
       }
       // 2. x_t = F x_{t-1} + G n (eq. 4)
       move(i0, n, w);
+      if (opt_.resampling == PfResampling::kMergeSelect) bucket_keys(i0, n);
       // 3. log p(y | x, s) + log p(o | s), then the moments
       if (fastrows_) {
         if (meas_.layout().space_dim == 2)
@@ -737,8 +752,7 @@ class ParticleFilter {
   }
 
   /// Adds a weight exp(lw - running max) to the accumulators: [max, sum w, sum w^2, sum w xc (N),
-  /// situation sums (B x N_z), sum w xc xc^T (upper triangle, row by row)]; xc = x - centre_ (the previous
-  /// estimate).
+  /// situation sums (B x N_z), sum w xc_p^2 per position axis p]; xc = x - centre_ (the previous estimate).
   /// With `sd`, the lanes hold s in {0, 1} and only the N_z = 2 entry w s_b is summed; returns w.
   template <class P>
   P accumulate(double* a, const P& lw, const P* xc, const double* sd) const {
@@ -759,11 +773,10 @@ class ParticleFilter {
     add(1, w);
     add(2, ei::pmul(w, w));
     const P live = ei::pcmp_lt(ei::pzero(w), w);  // weight 0 adds nothing, even with a non-finite state
-    for (int d = 0, q = k2_; d < N; ++d) {
-      const P wx = ei::pselect(live, ei::pmul(w, xc[d]), ei::pzero(w));
-      add(3 + d, wx);
-      for (int e = d; e < N; ++e) add(q++, ei::pselect(live, ei::pmul(wx, xc[e]), ei::pzero(w)));
-    }
+    const int pos = meas_.layout().position;
+    for (int d = 0; d < N; ++d) add(3 + d, ei::pselect(live, ei::pmul(w, xc[d]), ei::pzero(w)));
+    for (int e = 0; e < meas_.layout().space_dim; ++e)
+      add(k2_ + e, ei::pselect(live, ei::pmul(w, ei::pmul(xc[pos + e], xc[pos + e])), ei::pzero(w)));
     if (sd != nullptr)
       for (int b = 0; b < B_; ++b)
         add(kSp + 2 * b + 1, ei::pmul(w, ld<P>(sd + static_cast<std::size_t>(b) * kBlock)));
@@ -857,9 +870,9 @@ class ParticleFilter {
     if (a[0] == ninf) return;  // every weight so far is zero
     // weights and moments about centre_: sum w, w^2, w xc, w xc xc^T, w s_b
     const double m = a[0];
-    Packet s0 = ei::pzero(Packet()), s00 = s0, s1[N], s2[kNT], sp[64];
+    Packet s0 = ei::pzero(Packet()), s00 = s0, s1[N], s2[D], sp[64];
     for (int d = 0; d < N; ++d) s1[d] = s0;
-    for (int q = 0; q < kNT; ++q) s2[q] = s0;
+    for (int e = 0; e < D; ++e) s2[e] = s0;
     for (int b = 0; b < B_; ++b) sp[b] = s0;
     const double* xs[N];
     for (int d = 0; d < N; ++d) xs[d] = &nx_[idx(d, i0)];
@@ -873,26 +886,25 @@ class ParticleFilter {
       Q xc[N];
       for (int d = 0; d < N; ++d)
         xc[d] = ei::pselect(live, ei::psub(ld<Q>(xs[d] + j), cst<Q>(centre_(d))), ei::pzero(q0));
-      int q = 0;
-      for (int d = 0; d < N; ++d) {
-        const Q wx = ei::pmul(wj, xc[d]);
-        S1[d] = ei::padd(S1[d], wx);
-        for (int e = d; e < N; ++e, ++q) S2[q] = ei::padd(S2[q], ei::pmul(wx, xc[e]));
+      for (int d = 0; d < N; ++d) S1[d] = ei::padd(S1[d], ei::pmul(wj, xc[d]));
+      for (int e = 0; e < D; ++e) {  // position: eq. (31)'s variance
+        const Q xp = xc[L.position + e];
+        S2[e] = ei::padd(S2[e], ei::pmul(wj, ei::pmul(xp, xp)));
       }
       for (int b = 0; b < B_; ++b)
         SP[b] = ei::padd(SP[b], ei::pmul(wj, ld<Q>(&w.sd[static_cast<std::size_t>(b) * kBlock + j])));
     };
     int j = 0;
     for (; j + kLanes <= n; j += kLanes) mom(s0, j, &s0, &s00, s1, s2, sp);
-    double t0 = ei::predux(s0), t00 = ei::predux(s00), t1[N], t2[kNT], tp2[64];
+    double t0 = ei::predux(s0), t00 = ei::predux(s00), t1[N], t2[D], tp2[64];
     for (int d = 0; d < N; ++d) t1[d] = ei::predux(s1[d]);
-    for (int q = 0; q < kNT; ++q) t2[q] = ei::predux(s2[q]);
+    for (int e = 0; e < D; ++e) t2[e] = ei::predux(s2[e]);
     for (int b = 0; b < B_; ++b) tp2[b] = ei::predux(sp[b]);
     for (; j < n; ++j) mom(0.0, j, &t0, &t00, t1, t2, tp2);
     a[1] += t0;
     a[2] += t00;
     for (int d = 0; d < N; ++d) a[3 + d] += t1[d];
-    for (int q = 0; q < kNT; ++q) a[k2_ + q] += t2[q];
+    for (int e = 0; e < D; ++e) a[k2_ + e] += t2[e];
     for (int b = 0; b < B_; ++b) a[kSp + 2 * b + 1] += tp2[b];
   }
 
@@ -963,19 +975,71 @@ class ParticleFilter {
     if (!std::isfinite(g + std::log(sw))) return g + std::log(sw);  // rejected: the summary is kept
     ess = sw * sw / tot_[2];
     State m1;
-    Cov m2;
-    for (int d = 0, q = k2_; d < N; ++d) {
-      m1(d) = tot_[static_cast<std::size_t>(3 + d)] / sw;
-      for (int e = d; e < N; ++e, ++q) m2(d, e) = m2(e, d) = tot_[static_cast<std::size_t>(q)] / sw;
-    }
+    for (int d = 0; d < N; ++d) m1(d) = tot_[static_cast<std::size_t>(3 + d)] / sw;
     est_ = centre_ + m1;
-    // Weighted covariance from the raw moments about centre_ (the previous estimate, close to the new
-    // one, so the difference loses little precision): the pass sums them, no second pass over the states.
-    est_cov_ = m2 - m1 * m1.transpose();
-    nlosloc::detail::symmetrize(est_cov_);
+    // Position variance (eq. 31's threshold) from the raw moments about centre_ (the previous estimate,
+    // close to the new one, so the difference loses little precision); the full covariance on request.
+    const auto& L = meas_.layout();
+    pos_var_ = 0.0;
+    for (int e = 0; e < L.space_dim; ++e) {
+      const double me = m1(L.position + e);
+      pos_var_ += std::max(0.0, tot_[static_cast<std::size_t>(k2_ + e)] / sw - me * me);
+    }
+    cov_ready_ = false;
     for (int b = 0; b < B_; ++b)
       for (int z = 0; z < nz_; ++z) prob_(b, z) = tot_[static_cast<std::size_t>(kSp + b * nz_ + z)] / sw;
     return g + std::log(sw);
+  }
+
+  /// Weighted covariance of the weighted set about est_, on the pool: the particles x_ with weights
+  /// exp(logw_ - shift_), or after a resampling (x_ still holds the weighted set: the copy is deferred) the
+  /// weights w_ it used.
+  static constexpr int kCovStride = 1 + N + kNT;
+  void compute_covariance() const {
+    namespace ei = Eigen::internal;
+    constexpr int st = kCovStride;
+    std::fill(cparts_.begin(), cparts_.end(), 0.0);  // a thread with an empty chunk is not called
+    const bool from_w = resampled_;
+    pool_->parallel_for(M_, [&](int b0, int e0, int th) {
+      // Sums in locals (packets, then the scalar tail), stored once: the threads' rows of cparts_ share a
+      // cache line, and a store per particle bounced it between the cores (36 ms at 1e6 particles).
+      auto body = [&](auto q0, int i, auto* S) {
+        using Q = decltype(q0);
+        const Q wi = from_w ? ld<Q>(&w_(i)) : wexp<Q>(ei::psub(ld<Q>(&logw_(i)), cst<Q>(shift_)));
+        const Q live = ei::pcmp_lt(ei::pzero(q0), wi);  // weight 0: the particle adds nothing (even NaN x)
+        Q xc[N];
+        for (int d = 0; d < N; ++d)
+          xc[d] = ei::pselect(live, ei::psub(ld<Q>(&x_[idx(d, i)]), cst<Q>(est_(d))), ei::pzero(q0));
+        S[0] = ei::padd(S[0], wi);
+        int q = 1 + N;
+        for (int d = 0; d < N; ++d) {
+          const Q wx = ei::pmul(wi, xc[d]);
+          S[1 + d] = ei::padd(S[1 + d], wx);
+          for (int e = d; e < N; ++e, ++q) S[q] = ei::padd(S[q], ei::pmul(wx, xc[e]));
+        }
+      };
+      Packet sp[st];
+      for (auto& v : sp) v = ei::pzero(Packet());
+      int i = b0;
+      for (; i + kLanes <= e0; i += kLanes) body(Packet(), i, sp);
+      double sd[st];
+      for (int q = 0; q < st; ++q) sd[q] = ei::predux(sp[q]);
+      for (; i < e0; ++i) body(0.0, i, sd);
+      std::copy(sd, sd + st, &cparts_[static_cast<std::size_t>(th * st)]);
+    });
+    double tot[st] = {};
+    for (int t = 0; t < pool_->size(); ++t)
+      for (int q = 0; q < st; ++q) tot[q] += cparts_[static_cast<std::size_t>(t * st + q)];
+    State m1;
+    Cov m2;
+    int q = 1 + N;
+    for (int d = 0; d < N; ++d) {
+      m1(d) = tot[1 + d] / tot[0];
+      for (int e = d; e < N; ++e, ++q) m2(d, e) = m2(e, d) = tot[q] / tot[0];
+    }
+    est_cov_ = m2 - m1 * m1.transpose();
+    nlosloc::detail::symmetrize(est_cov_);
+    cov_ready_ = true;
   }
 
   /// Applies the deferred normalisation (logw_ -= shift_).
@@ -1003,6 +1067,9 @@ class ParticleFilter {
     est_ = m1;
     est_cov_ = m2 - m1 * m1.transpose();
     nlosloc::detail::symmetrize(est_cov_);
+    cov_ready_ = true;
+    const auto& L = meas_.layout();
+    pos_var_ = est_cov_.diagonal().segment(L.position, L.space_dim).sum();
   }
 
   /// Systematic resampling of the weights exp(logw_ - z), on the pool: each thread takes the pointers
@@ -1060,35 +1127,46 @@ class ParticleFilter {
     return static_cast<std::uint64_t>(f);
   }
 
-  /// Bucketed greedy merge (see the file comment); returns the number of absorbed particles.
+  /// Bucket keys of the moved particles [i0, i0 + n) (in the pass, while they are in cache): a hash of the
+  /// situation vector and the grid cell floor(x / w) (w = inv_cell_^-1), folded to 32 bits, with
+  /// independent products (no serial multiply chain). A collision only puts two buckets in one group:
+  /// the merge still checks eq. (29).
+  void bucket_keys(int i0, int n) {
+    static constexpr std::uint64_t kMul[8] = {
+        0x9E3779B97F4A7C15ULL, 0xC2B2AE3D27D4EB4FULL, 0x165667B19E3779F9ULL, 0xD6E8FEB86659FD93ULL,
+        0xFF51AFD7ED558CCDULL, 0xC4CEB9FE1A85EC53ULL, 0x94D049BB133111EBULL, 0xBF58476D1CE4E5B9ULL};
+    for (int j = 0; j < n; ++j) {
+      const int i = i0 + j;
+      std::uint64_t sv = 0;
+      for (int b = 0; b < B_; ++b) sv = sv * 257 + ns_[sidx(b, i)];
+      std::uint64_t h = (sv + 1) * kMul[7];
+      for (int e = 0; e < N; ++e) h ^= cell_index(nx_[idx(e, i)] * inv_cell_) * kMul[e % 7];
+      h ^= h >> 31;
+      h *= kMul[0];
+      mkey_[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(h >> 32);
+    }
+  }
+
+  /// Bucketed greedy merge (see the file comment) on the keys of the pass; returns the number of absorbed
+  /// particles.
   int merge_cells() {
-    const auto& L = meas_.layout();
-    const double pos_var = covariance().diagonal().segment(L.position, L.space_dim).sum();
     const double d =
-        opt_.merge_threshold >= 0.0 ? opt_.merge_threshold : default_merge_threshold(pos_var, M_);
+        opt_.merge_threshold >= 0.0 ? opt_.merge_threshold : default_merge_threshold(pos_var_, M_);
     if (!(d > 0.0)) return 0;
-    const double inv_d = 1.0 / d;
-    // Bucket key: FNV-1a over the situation and the grid cell, folded to 32 bits, computed by the merge's
-    // first pass. A collision only puts two buckets in one group: close() still checks eq. (29).
-    return merge_greedy_parallel_by(
-        [&](int i) {
-          std::uint64_t h = 1469598103934665603ULL;
-          for (int b = 0; b < B_; ++b) h = (h ^ s_[sidx(b, i)]) * 1099511628211ULL;
-          for (int e = 0; e < N; ++e) h = (h ^ cell_index(x_[idx(e, i)] * inv_d)) * 1099511628211ULL;
-          return (h ^ (h >> 32)) & 0xFFFFFFFFULL;
-        },
-        logw_.data(), M_,
-        [&](int a, int b) {
-          for (int bb = 0; bb < B_; ++bb)
-            if (s_[sidx(bb, a)] != s_[sidx(bb, b)]) return false;  // eq. (29): different situation
-          double d2 = 0.0;
-          for (int e = 0; e < N; ++e) {
-            const double v = x_[idx(e, a)] - x_[idx(e, b)];
-            d2 += v * v;
-          }
-          return d2 < d * d;
-        },
-        *pool_, mws_);
+    return merge_greedy_parallel_by([&](int i) { return std::uint64_t{mkey_[static_cast<std::size_t>(i)]}; },
+                                    logw_.data(), M_,
+                                    [&](int a, int b) {
+                                      for (int bb = 0; bb < B_; ++bb)
+                                        if (s_[sidx(bb, a)] != s_[sidx(bb, b)])
+                                          return false;  // eq. (29): different situation
+                                      double d2 = 0.0;
+                                      for (int e = 0; e < N; ++e) {
+                                        const double v = x_[idx(e, a)] - x_[idx(e, b)];
+                                        d2 += v * v;
+                                      }
+                                      return d2 < d * d;
+                                    },
+                                    *pool_, mws_);
   }
 
   static constexpr int kSp = 3 + N;  // offset of the situation sums in an accumulator row
@@ -1132,8 +1210,13 @@ class ParticleFilter {
   MatX Lq_, T_, prob_;
   VecX y_;
   ParallelMergeWorkspace mws_;
+  std::vector<std::uint32_t> mkey_;  // merge-select: bucket keys of the moved particles (bucket_keys)
+  double inv_cell_ = 0.0;            // 1 / width of the buckets' grid cells (0: one cell)
   State est_ = State::Zero(), centre_ = State::Zero();
-  Cov est_cov_ = Cov::Zero();
+  mutable Cov est_cov_ = Cov::Zero();
+  mutable bool cov_ready_ = false;
+  mutable std::vector<double> cparts_;  // per-thread partial sums of compute_covariance()
+  double pos_var_ = 0.0;                // position variance of the weighted set (eq. 31)
 };
 
 }  // namespace nlosloc::rbpf
