@@ -180,6 +180,7 @@ class ParticleFilter {
     logw_.resize(M_);
     nlogw_.resize(M_);
     w_.resize(M_);
+    nw_.resize(M_);
     anc_.resize(M);
     // Square root of Q (PSD, possibly singular: Huerta eq. 6 has no position noise): Q = G G^T with only the
     // non-zero eigen-directions, so a step draws rank(Q) normals.
@@ -216,6 +217,8 @@ class ParticleFilter {
       w.xg.resize(static_cast<std::size_t>(N) * kBlock);
       w.sg.resize(static_cast<std::size_t>(B_) * kBlock);
       w.sb.resize(static_cast<std::size_t>(B_));
+      w.bsc.resize(static_cast<std::size_t>(M / kBlock + 2));
+      w.nbsc.resize(static_cast<std::size_t>(M / kBlock + 2));
       w.zrow = VecX::Zero(meas.rows());
       w.T.resize(nz_, nz_);
     }
@@ -338,6 +341,8 @@ class ParticleFilter {
          ++th)  // rows of threads with an empty chunk (M < threads) stay empty
       init_acc(&parts_[static_cast<std::size_t>(th * stride_)], 1);
     brng_back_ = brng_;  // the pass draws from the bulk generators only (same sizes: no allocation)
+    std::fill(cbeg_.begin(), cbeg_.end(), 0);  // the pass records the threads' ranges (none: empty)
+    std::fill(cend_.begin(), cend_.end(), 0);
     // The pass writes the moved states, situations and log weights into nx_, ns_, nlogw_: the particles
     // stay as they were until the step is accepted.
     pool_->parallel_for(M_, [&](int b0, int e0, int th) { propagate_weight(b0, e0, th, k, t, speed); });
@@ -352,6 +357,10 @@ class ParticleFilter {
     std::swap(x_, nx_);
     std::swap(s_, ns_);
     std::swap(logw_, nlogw_);
+    if (fastrows_) {  // the pass's weights, by block (bsc: the blocks' maxima until resample() scales them)
+      std::swap(w_, nw_);
+      for (ThreadWork& w : work_) std::swap(w.bsc, w.nbsc);
+    }
     resampled_ = false;  // the pass read the last resampling's ancestors
     info.log_likelihood = z;
     shift_ = z;  // logw_ - shift_ are the normalised log weights
@@ -361,10 +370,10 @@ class ParticleFilter {
       // The merge compares and adds weights (eq. 30), so it works on the log weights as they are (the
       // normalisation is a shift); it keeps their sum, and resample divides by the actual sum.
       info.merged = merge_cells();
-      resample(shift_);
+      resample(shift_, fastrows_ && info.merged == 0);
       info.resampled = true;
     } else if (info.ess < opt_.ess_threshold * static_cast<double>(M_)) {
-      resample(shift_);
+      resample(shift_, fastrows_);
       info.resampled = true;
     }
     return info;
@@ -445,6 +454,9 @@ class ParticleFilter {
     std::vector<std::uint8_t> sg;  // the block's resampled situations (B x block)
     const double* xb[N] = {};      // the block's state rows: x_ itself, or xg after a resampling
     std::vector<const std::uint8_t*> sb;  // the block's situation rows
+    std::vector<double> bsc;              // per block of the thread's range: scale of its weights in w_
+    std::vector<double> nbsc;             // the pass's block maxima (swapped into bsc with nw_ into w_)
+    int blk = 0;                          // block of the pass (index into bsc)
     VecX zrow;
     MatX T;
   };
@@ -560,8 +572,11 @@ class ParticleFilter {
     ThreadWork& w = work_[static_cast<std::size_t>(th)];
     BatchRng& rng = brng_[static_cast<std::size_t>(th)];
     init_acc(w.sacc.data(), 1);
+    cbeg_[static_cast<std::size_t>(th)] = b0;
+    cend_[static_cast<std::size_t>(th)] = e0;
     for (int i0 = b0; i0 < e0; i0 += kBlock) {
       const int n = std::min(kBlock, e0 - i0);
+      w.blk = (i0 - b0) / kBlock;
       const int ku = (n + 3) / 4 * 4;  // uniforms per anchor in this block (fill_uniform needs 4 | count)
       rng.fill_uniform(w.u.data(), B_ * ku);
       rng.fill_normal(w.z.data(), nq_ * n);
@@ -867,9 +882,15 @@ class ParticleFilter {
       a[2] *= f;  // sum w^2 scales by f^2
       a[0] = ms;
     }
-    if (a[0] == ninf) return;  // every weight so far is zero
-    // weights and moments about centre_: sum w, w^2, w xc, w xc xc^T, w s_b
+    double* wo = &nw_(i0);  // the weights exp(lw - m), kept for the resampling (scale exp(m - z) by block)
+    if (a[0] == ninf) {     // every weight so far is zero
+      std::fill(wo, wo + n, 0.0);
+      w.nbsc[static_cast<std::size_t>(w.blk)] = ninf;
+      return;
+    }
+    // weights and moments about centre_: sum w, w^2, w xc, w_p xc_p^2, w s_b
     const double m = a[0];
+    w.nbsc[static_cast<std::size_t>(w.blk)] = m;
     Packet s0 = ei::pzero(Packet()), s00 = s0, s1[N], s2[D], sp[64];
     for (int d = 0; d < N; ++d) s1[d] = s0;
     for (int e = 0; e < D; ++e) s2[e] = s0;
@@ -879,6 +900,7 @@ class ParticleFilter {
     auto mom = [&](auto q0, int j, auto* S0, auto* S00, auto* S1, auto* S2, auto* SP) {
       using Q = decltype(q0);
       const Q wj = wexp<Q>(ei::psub(ld<Q>(lwo + j), cst<Q>(m)));
+      ei::pstoreu(wo + j, wj);
       *S0 = ei::padd(*S0, wj);
       *S00 = ei::padd(*S00, ei::pmul(wj, wj));
       // weight 0: the particle adds nothing, even with a non-finite state
@@ -993,7 +1015,7 @@ class ParticleFilter {
 
   /// Weighted covariance of the weighted set about est_, on the pool: the particles x_ with weights
   /// exp(logw_ - shift_), or after a resampling (x_ still holds the weighted set: the copy is deferred) the
-  /// weights w_ it used.
+  /// weights it used, w_ times its block's scale.
   static constexpr int kCovStride = 1 + N + kNT;
   void compute_covariance() const {
     namespace ei = Eigen::internal;
@@ -1001,11 +1023,13 @@ class ParticleFilter {
     std::fill(cparts_.begin(), cparts_.end(), 0.0);  // a thread with an empty chunk is not called
     const bool from_w = resampled_;
     pool_->parallel_for(M_, [&](int b0, int e0, int th) {
+      const double* scale = work_[static_cast<std::size_t>(th)].bsc.data();  // used when from_w
       // Sums in locals (packets, then the scalar tail), stored once: the threads' rows of cparts_ share a
       // cache line, and a store per particle bounced it between the cores (36 ms at 1e6 particles).
       auto body = [&](auto q0, int i, auto* S) {
         using Q = decltype(q0);
-        const Q wi = from_w ? ld<Q>(&w_(i)) : wexp<Q>(ei::psub(ld<Q>(&logw_(i)), cst<Q>(shift_)));
+        const Q wi = from_w ? ei::pmul(ld<Q>(&w_(i)), cst<Q>(scale[(i - b0) / kBlock]))
+                            : wexp<Q>(ei::psub(ld<Q>(&logw_(i)), cst<Q>(shift_)));
         const Q live = ei::pcmp_lt(ei::pzero(q0), wi);  // weight 0: the particle adds nothing (even NaN x)
         Q xc[N];
         for (int d = 0; d < N; ++d)
@@ -1073,43 +1097,64 @@ class ParticleFilter {
   }
 
   /// Systematic resampling of the weights exp(logw_ - z), on the pool: each thread takes the pointers
-  /// (j + u0) / M that fall in its chunk's share of the cumulative weight and copies their ancestors.
-  void resample(double z) {
+  /// (j + u0) / M that fall in its chunk's share of the cumulative weight and writes their ancestors (the
+  /// copy is left to the next pass). With `from_pass`, the weights are the pass's, w_ exp(m_block - z)
+  /// (the fast path stored them with its block maxima, and no merge changed them): no exp pass; else they
+  /// are computed here. Either way w_ times the block scale bsc is the weight of the resampled set.
+  void resample(double z, bool from_pass) {
     namespace ei = Eigen::internal;
-    std::fill(csum_.begin(), csum_.end(), 0.0);  // a thread with an empty chunk is not called
-    std::fill(cbeg_.begin(), cbeg_.end(), 0);
-    std::fill(cend_.begin(), cend_.end(), 0);
-    const double lw_equal = -std::log(static_cast<double>(M_));
-    pool_->parallel_for(M_, [&](int b0, int e0, int th) {
-      int i = b0;
-      Packet acc = ei::pzero(cst<Packet>(0.0));
-      // the weights, and the resampled set's equal log weights in their place (read only here)
-      for (; i + kLanes <= e0; i += kLanes) {
-        const Packet wi = wexp<Packet>(ei::psub(ld<Packet>(&logw_(i)), cst<Packet>(z)));
-        ei::pstoreu(&w_(i), wi);
-        ei::pstoreu(&logw_(i), cst<Packet>(lw_equal));
-        acc = ei::padd(acc, wi);
-      }
-      double s = ei::predux(acc);
-      for (; i < e0; ++i) {
-        s += (w_(i) = wexp<double>(logw_(i) - z));
-        logw_(i) = lw_equal;
-      }
-      csum_[static_cast<std::size_t>(th)] = s;
-      cbeg_[static_cast<std::size_t>(th)] = b0;
-      cend_[static_cast<std::size_t>(th)] = e0;
-    });
     const int T = pool_->size();
+    const double lw_equal = -std::log(static_cast<double>(M_));
+    if (from_pass) {
+      // chunk sums from the pass's sums (each relative to its thread's last maximum a[0]); block scales
+      for (int th = 0; th < T; ++th) {
+        const double* a = &parts_[static_cast<std::size_t>(th * stride_)];
+        const auto u = static_cast<std::size_t>(th);
+        csum_[u] = a[0] > -std::numeric_limits<double>::infinity() ? a[1] * std::exp(a[0] - z) : 0.0;
+        double* sc = work_[u].bsc.data();
+        const int nb = (cend_[u] - cbeg_[u] + kBlock - 1) / kBlock;
+        for (int q = 0; q < nb; ++q)
+          sc[q] = sc[q] > -std::numeric_limits<double>::infinity() ? std::exp(sc[q] - z) : 0.0;
+      }
+    } else {
+      std::fill(csum_.begin(), csum_.end(), 0.0);  // a thread with an empty chunk is not called
+      std::fill(cbeg_.begin(), cbeg_.end(), 0);
+      std::fill(cend_.begin(), cend_.end(), 0);
+      pool_->parallel_for(M_, [&](int b0, int e0, int th) {
+        int i = b0;
+        Packet acc = ei::pzero(cst<Packet>(0.0));
+        // the weights, and the resampled set's equal log weights in their place (read only here)
+        for (; i + kLanes <= e0; i += kLanes) {
+          const Packet wi = wexp<Packet>(ei::psub(ld<Packet>(&logw_(i)), cst<Packet>(z)));
+          ei::pstoreu(&w_(i), wi);
+          ei::pstoreu(&logw_(i), cst<Packet>(lw_equal));
+          acc = ei::padd(acc, wi);
+        }
+        double s = ei::predux(acc);
+        for (; i < e0; ++i) {
+          s += (w_(i) = wexp<double>(logw_(i) - z));
+          logw_(i) = lw_equal;
+        }
+        const auto u = static_cast<std::size_t>(th);
+        csum_[u] = s;
+        cbeg_[u] = b0;
+        cend_[u] = e0;
+        std::fill_n(work_[u].bsc.begin(), (e0 - b0 + kBlock - 1) / kBlock, 1.0);
+      });
+    }
     double total = 0.0;
     for (int t = 0; t < T; ++t) total += csum_[static_cast<std::size_t>(t)];
     const double u0 = rng_[0].uniform();
     pool_->parallel_for(T, [&](int t0, int t1, int) {
       for (int t = t0; t < t1; ++t) {
+        const auto u = static_cast<std::size_t>(t);
         double c0 = 0.0;
-        for (int q = 0; q < t; ++q) c0 += csum_[static_cast<std::size_t>(q)];
-        systematic_resample_chunk(w_, cbeg_[static_cast<std::size_t>(t)], cend_[static_cast<std::size_t>(t)],
-                                  c0, c0 + csum_[static_cast<std::size_t>(t)], total, M_, u0, t, T,
-                                  anc_.data());
+        for (std::size_t q = 0; q < u; ++q) c0 += csum_[q];
+        const int b0 = cbeg_[u];
+        const double* sc = work_[u].bsc.data();
+        systematic_resample_chunk([&](int i) { return w_(i) * sc[(i - b0) / kBlock]; }, b0, cend_[u], c0,
+                                  c0 + csum_[u], total, M_, u0, t, T, anc_.data());
+        if (from_pass) std::fill(&logw_(0) + b0, &logw_(0) + cend_[u], lw_equal);
       }
     });
     resampled_ = true;  // particle j is now x_ / s_ of anc_[j] (ancestor(); the next pass gathers them)
@@ -1197,7 +1242,7 @@ class ParticleFilter {
   VecX nlogw_;                  // the pass writes the new log weights here: a rejected step keeps logw_
   mutable double shift_ = 0.0;  // logw_ - shift_ are the normalised log weights
   double prior_shift_ = 0.0;
-  VecX w_;
+  VecX w_, nw_;  // weights of the last resampling (by block: times bsc); the pass writes nw_
   std::vector<int> anc_;
   bool resampled_ = false;  // the current set is x_ / s_ through anc_ (ancestor())
   Eigen::Matrix<double, N, Eigen::Dynamic> G_;
