@@ -302,7 +302,7 @@ struct ParallelMergeWorkspace {
   /// Buckets of up to kTable / 2 entries are grouped through a hash table of kTable slots per thread (in
   /// L1), larger ones by a sort.
   static constexpr int kTable = 4096;
-  std::vector<std::uint32_t> keys;     // the keys, computed once by the histogram pass
+  std::vector<std::uint32_t> keys;     // merge_greedy_parallel: the 64-bit keys, checked and narrowed
   std::vector<std::uint64_t> entries;  // key << 32 | index, scattered by bucket (stable: index order inside)
   std::vector<int> offset;             // (thread, bucket) start of each thread's share of a bucket
   std::vector<int> absorbed;           // per thread
@@ -328,52 +328,36 @@ struct ParallelMergeWorkspace {
 
 /// merge_greedy for many particles with 32-bit keys, on a thread pool (`pool.parallel_for(n, fn(b, e, t))`,
 /// `pool.size()`): the particles are scattered into 2^11 buckets by the keys' top bits (one stable
-/// counting pass, each thread over its own index range), then each thread sorts its range of buckets
-/// in cache (by key, heaviest first within a key, ties by index) and merges every group greedily. Groups
+/// counting pass, each thread over its own index range); then each thread finds the groups of its range
+/// of buckets in cache, orders each group heaviest first (ties by index) and merges it greedily. Groups
 /// and their visiting order are merge_greedy's, so the result is identical to it, whatever the thread
 /// count; only the order in which groups are visited differs, and groups are independent. Replaces three
 /// radix passes over all n particles by one, and runs on all threads: the joint PF's merge of 1e6
 /// particles, where almost no group has two members, spent 90 ms of a 139 ms step in merge_greedy.
 /// Inside a bucket of up to kTable / 2 entries the groups are found by a hash table (linear probing, in
-/// index order, so a group lists its members by index) instead of a sort: the sorts took 15 of the 20 ms
-/// of that merge. `close` is called from several threads at once. Keys must be below 2^32
-/// (std::invalid_argument).
-/// This form takes the keys from key_of(i) (called once per particle, from several threads at once), so a
-/// caller that computes them needs no pass of its own over its particles.
-template <class Pool, class KeyOf, class Close>
-int merge_greedy_parallel_by(KeyOf&& key_of, double* logw, int n, Close&& close, Pool& pool,
-                             ParallelMergeWorkspace& ws) {
+/// index order, so a group lists its members by index), in larger ones by a sort: the sorts took 15 of
+/// the 20 ms of that merge. `close` is called from several threads at once.
+template <class Pool, class Close>
+int merge_greedy_parallel(const std::uint32_t* keys, double* logw, int n, Close&& close, Pool& pool,
+                          ParallelMergeWorkspace& ws) {
   constexpr int kBuckets = ParallelMergeWorkspace::kBuckets;
   constexpr int kShift = 32 - ParallelMergeWorkspace::kBucketBits;
   if (n <= 0) return 0;
   const int T = pool.size();
   const auto TB = static_cast<std::size_t>(T) * kBuckets;
-  ws.keys.resize(static_cast<std::size_t>(n));
   ws.entries.resize(static_cast<std::size_t>(n));
   ws.offset.assign(TB + 1, 0);
   ws.absorbed.assign(static_cast<std::size_t>(T), 0);
-  ws.above.assign(static_cast<std::size_t>(T), 0);
   ws.link.resize(static_cast<std::size_t>(n));
   ws.slot.resize(static_cast<std::size_t>(T) * ParallelMergeWorkspace::kTable);
   ws.tail.resize(static_cast<std::size_t>(T) * ParallelMergeWorkspace::kTable);
   ws.multi.resize(static_cast<std::size_t>(T) * ParallelMergeWorkspace::kTable / 2);
   ws.group.resize(static_cast<std::size_t>(T) * ParallelMergeWorkspace::kTable / 2);
-  // 1. the keys and per-thread histograms of their top bits (parallel_for gives thread t the same range
-  // every call)
+  // 1. per-thread histograms of the top bits (parallel_for gives thread t the same range every call)
   pool.parallel_for(n, [&](int b, int e, int t) {
     int* h = ws.offset.data() + static_cast<std::size_t>(t) * kBuckets;
-    std::uint32_t* kk = ws.keys.data();
-    std::uint64_t hi = 0;
-    for (int i = b; i < e; ++i) {
-      const std::uint64_t k = key_of(i);
-      hi |= k >> 32;
-      kk[i] = static_cast<std::uint32_t>(k);
-      ++h[kk[i] >> kShift];
-    }
-    ws.above[static_cast<std::size_t>(t)] = hi != 0 ? 1U : 0U;
+    for (int i = b; i < e; ++i) ++h[keys[i] >> kShift];
   });
-  for (const std::uint32_t a : ws.above)
-    NLOSLOC_ENSURE(a == 0, "keys: expected values below 2^32 for merge_greedy_parallel");
   // 2. exclusive prefix over (bucket, thread): thread t's share of bucket c follows threads < t's
   int sum = 0;
   for (int c = 0; c < kBuckets; ++c)
@@ -387,7 +371,7 @@ int merge_greedy_parallel_by(KeyOf&& key_of, double* logw, int n, Close&& close,
   pool.parallel_for(n, [&](int b, int e, int t) {
     int* o = ws.offset.data() + static_cast<std::size_t>(t) * kBuckets;
     for (int i = b; i < e; ++i) {
-      const std::uint32_t k = ws.keys[static_cast<std::size_t>(i)];
+      const std::uint32_t k = keys[i];
       ws.entries[static_cast<std::size_t>(o[k >> kShift]++)] =
           std::uint64_t{k} << 32 | static_cast<std::uint32_t>(i);
     }
@@ -466,12 +450,25 @@ int merge_greedy_parallel_by(KeyOf&& key_of, double* logw, int n, Close&& close,
   return total;
 }
 
-/// merge_greedy_parallel_by with the keys in an array.
+/// merge_greedy_parallel with merge_greedy's 64-bit keys, which must be below 2^32 (std::invalid_argument
+/// naming `keys`, before any weight changes).
 template <class Pool, class Close>
 int merge_greedy_parallel(const std::uint64_t* keys, double* logw, int n, Close&& close, Pool& pool,
                           ParallelMergeWorkspace& ws) {
-  return merge_greedy_parallel_by([keys](int i) { return keys[i]; }, logw, n, std::forward<Close>(close),
-                                  pool, ws);
+  if (n <= 0) return 0;
+  ws.keys.resize(static_cast<std::size_t>(n));
+  ws.above.assign(static_cast<std::size_t>(pool.size()), 0);
+  pool.parallel_for(n, [&](int b, int e, int t) {
+    std::uint64_t hi = 0;
+    for (int i = b; i < e; ++i) {
+      hi |= keys[i] >> 32;
+      ws.keys[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(keys[i]);
+    }
+    ws.above[static_cast<std::size_t>(t)] = hi != 0 ? 1U : 0U;
+  });
+  for (const std::uint32_t a : ws.above)
+    NLOSLOC_ENSURE(a == 0, "keys: expected values below 2^32 for merge_greedy_parallel");
+  return merge_greedy_parallel(ws.keys.data(), logw, n, std::forward<Close>(close), pool, ws);
 }
 
 /// Incremental selection of the M heaviest of the offered indices, by log weight then lower index. A

@@ -1198,20 +1198,19 @@ class ParticleFilter {
     const double d =
         opt_.merge_threshold >= 0.0 ? opt_.merge_threshold : default_merge_threshold(pos_var_, M_);
     if (!(d > 0.0)) return 0;
-    return merge_greedy_parallel_by([&](int i) { return std::uint64_t{mkey_[static_cast<std::size_t>(i)]}; },
-                                    logw_.data(), M_,
-                                    [&](int a, int b) {
-                                      for (int bb = 0; bb < B_; ++bb)
-                                        if (s_[sidx(bb, a)] != s_[sidx(bb, b)])
-                                          return false;  // eq. (29): different situation
-                                      double d2 = 0.0;
-                                      for (int e = 0; e < N; ++e) {
-                                        const double v = x_[idx(e, a)] - x_[idx(e, b)];
-                                        d2 += v * v;
-                                      }
-                                      return d2 < d * d;
-                                    },
-                                    *pool_, mws_);
+    return merge_greedy_parallel(
+        mkey_.data(), logw_.data(), M_,
+        [&](int a, int b) {
+          for (int bb = 0; bb < B_; ++bb)
+            if (s_[sidx(bb, a)] != s_[sidx(bb, b)]) return false;  // eq. (29): different situation
+          double d2 = 0.0;
+          for (int e = 0; e < N; ++e) {
+            const double v = x_[idx(e, a)] - x_[idx(e, b)];
+            d2 += v * v;
+          }
+          return d2 < d * d;
+        },
+        *pool_, mws_);
   }
 
   static constexpr int kSp = 3 + N;  // offset of the situation sums in an accumulator row
