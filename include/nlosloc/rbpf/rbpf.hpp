@@ -889,7 +889,15 @@ class Rbpf {
 
   void step_reordered(long k, double t, RbpfStepInfo& info) {
     info.offspring = count_ * per_parent_;
-    reordered_region(k, t, info);
+    // The bank overwrites xpred_ with the children's predicted means: valid again only once they are
+    // the particles (end of this function), so a step that throws leaves it marked stale.
+    try {
+      reordered_region(k, t, info);
+    } catch (...) {
+      xpred_ready_ = false;
+      throw;
+    }
+    xpred_ready_ = false;
     const int ns = info.ukf_runs;
     // eq. (33): w_t = w_t|t-1 p(y_t | s_1:t, y_1:t-1), normalised (log-sum-exp over the threads' sums)
     double z = -kInf;
