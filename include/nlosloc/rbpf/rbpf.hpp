@@ -155,9 +155,14 @@ class Rbpf {
     cell_.reserve(static_cast<std::size_t>(M) + 1);
     pcell_.assign(static_cast<std::size_t>(M), 0);
     apar_.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
-    for (int t = 0; t < pool_->size(); ++t) {
-      kernels_.emplace_back(
-          std::make_unique<UkfKernel<Motion, Meas>>(meas_, options.scheme, options.noise_form));
+    // Each thread allocates its own kernel and scratch (glibc then serves them from that thread's arena):
+    // allocated in turn by the caller, one thread's buffers shared cache lines with the next thread's.
+    // H2 rRBPF-128, interleaved 1/2-thread pairs: speed-up 1.44-1.47 before, 1.46-1.50 after.
+    kernels_.resize(static_cast<std::size_t>(pool_->size()));
+    work_.resize(static_cast<std::size_t>(pool_->size()));
+    pool_->parallel_for(pool_->size(), [&](int, int, int th) {
+      const auto t = static_cast<std::size_t>(th);
+      kernels_[t] = std::make_unique<UkfKernel<Motion, Meas>>(meas_, options.scheme, options.noise_form);
       auto w = std::make_unique<ThreadWork>();
       w->T.resize(nz_, nz_);
       w->speeds.setZero(B_);
@@ -181,8 +186,8 @@ class Rbpf {
       }
       if (static_cast<std::uint64_t>(per_parent_) < total)
         w->best.reserve(B_, nz_, static_cast<std::uint64_t>(per_parent_));
-      work_.push_back(std::move(w));
-    }
+      work_[t] = std::move(w);
+    });
     thread_fail_.assign(static_cast<std::size_t>(pool_->size()), 0);
     split_.assign(static_cast<std::size_t>(pool_->size()) + 1, 0);
     thread_status_.assign(static_cast<std::size_t>(pool_->size()), CholeskyStatus::kOk);
