@@ -156,7 +156,7 @@ class Rbpf {
     pcell_.assign(static_cast<std::size_t>(M), 0);
     apar_.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
     // Each thread allocates its own kernel and scratch (glibc then serves them from that thread's arena):
-    // allocated in turn by the caller, one thread's buffers shared cache lines with the next thread's.
+    // allocated in turn by the caller, one thread's buffers could share cache lines with the next thread's.
     // H2 rRBPF-128, interleaved 1/2-thread pairs: speed-up 1.44-1.47 before, 1.46-1.50 after.
     kernels_.resize(static_cast<std::size_t>(pool_->size()));
     work_.resize(static_cast<std::size_t>(pool_->size()));
