@@ -8,60 +8,14 @@
 
 #include <vector>
 
+#include "h2_micro_model.hpp"
 #include "nlosloc/rbpf/pf.hpp"
 #include "nlosloc/rbpf/rbpf.hpp"
 
 namespace {
 using namespace nlosloc;
-namespace nn = nlosloc::noise;
-namespace si = nlosloc::situation;
-
-struct H2Model {
-  ConstantVelocityClock2 motion{0.01, 1.0, 1e-2};
-  MeasurementStack st{ConstantVelocityClock2::layout(), anchors(), 2};
-  si::SightProcess proc{si::SightModel::speed_dependent(10, 10, 0.01), 6};
-  si::QualityModel q{{nn::Beta(4, 1.5), nn::Beta(1.5, 4)}};
-  Gaussian<6> init;
-  std::vector<VecX> y, o;
-
-  H2Model() {
-    for (int b = 0; b < 6; ++b)
-      st.add_rtoa(b, {nn::Normal(0, std::sqrt(10.0)), nn::Rayleigh::from_variance(5000)});
-    init.mean.setZero();
-    init.cov = Vec<6>(25, 25, 10, 1, 1, 10).asDiagonal();
-    // a pre-drawn 1024-step track (random-walk mobile, sight from the chain), cycled by the loops
-    Rng rng(1);
-    Vec<6> x = Vec<6>::Zero();
-    VecXi s = proc.sample_initial(rng);
-    for (int k = 1; k <= 1024; ++k) {
-      x = motion.F() * x;
-      x(3) += 0.1 * rng.normal();
-      x(4) += 0.1 * rng.normal();
-      x(5) += 0.01 * rng.normal();
-      VecX w(6);
-      si::transversal_speeds(x.head<2>(), x.segment<2>(3), st.anchors(), w);
-      s = proc.sample_next(s, k, w, rng);
-      VecX yk(6);
-      st.predict(x, 0.0, yk);
-      for (int b = 0; b < 6; ++b) yk(b) += st.noise(b, s(b)).sample(rng);
-      y.push_back(yk);
-      o.push_back(q.sample(s, rng));
-    }
-  }
-  static MatX anchors() {
-    MatX a(6, 2);
-    for (int b = 0; b < 6; ++b) {
-      a(b, 0) = 3000 * std::cos(b * kPi / 3);
-      a(b, 1) = 3000 * std::sin(b * kPi / 3);
-    }
-    return a;
-  }
-};
-
-const H2Model& model() {
-  static const H2Model m;
-  return m;
-}
+using nlosloc::bench::H2Model;
+using nlosloc::bench::model;
 
 /// args: variant (0 classical, 1 reordered), M, threads[, noise form (0 additive, 1 augmented: Table III)]
 void BM_Rbpf(benchmark::State& state) {

@@ -35,6 +35,7 @@
 #include "nlosloc/core/logsumexp.hpp"
 #include "nlosloc/rbpf/merge.hpp"
 #include "nlosloc/rbpf/offspring.hpp"
+#include "nlosloc/rbpf/phase_profile.hpp"
 #include "nlosloc/rbpf/thread_pool.hpp"
 #include "nlosloc/rbpf/ukf_kernel.hpp"
 #include "nlosloc/situation/markov.hpp"
@@ -231,6 +232,7 @@ class Rbpf {
   /// One iteration with measurements y (size rows; NaN = missing) and quality statistics o (size B;
   /// NaN = missing). Throws NumericalError (state unchanged) when every UKF update fails.
   RbpfStepInfo step(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) {
+    phase_profile::begin_step();
     nlosloc::detail::check_measurement(y, meas_.rows());
     situation::check_statistics(o, B_);
     y_ = y;
@@ -250,6 +252,7 @@ class Rbpf {
     t_ = t;
     first_ = false;
     pos_var_ = position_variance(est_cov_);
+    phase_profile::mark(0, phase_profile::kStepEnd);
     return info;
   }
 
@@ -453,6 +456,8 @@ class Rbpf {
     region_failed_ = false;
     const unsigned gen = ++region_gen_;
     pool_->parallel_for(T, [&](int th, int, int) {
+      namespace pp = phase_profile;
+      pp::mark(th, pp::kRegionStart);
       ThreadWork& w = *work_[static_cast<std::size_t>(th)];
       std::exception_ptr err;
       auto guarded = [&](auto&& f) {
@@ -479,51 +484,69 @@ class Rbpf {
           sweep_ok_ = true;
         });
         sweep_ready_->publish(gen);  // even after a failure: no one waits forever
+        pp::mark(th, pp::kSweepSetup);
       }
       guarded([&] {
         for (int p = pb; p < pe; ++p) parent_bounds(p, k, w);
+        pp::mark(th, pp::kFactors);
         if (merge) {
           sweep_ready_->wait(gen);
           if (sweep_ok_) sweep_near(th, d_min, w);
+          pp::mark(th, pp::kSweep);
         }
         w.psorted.resize(static_cast<std::size_t>(pe - pb));
         std::iota(w.psorted.begin(), w.psorted.end(), pb);
         std::sort(w.psorted.begin(), w.psorted.end(), HeavierFirst{best_.data()});
+        pp::mark(th, pp::kSort);
       });
       // Every thread arrives at every barrier, even after an exception (no deadlock); the one before the
       // merge is skipped by all threads alike when no parent has a neighbour (they see the same flags).
       barrier_->arrive_and_wait(T);
+      pp::mark(th, pp::kWaitFactors);
       // B. children of the parents with a neighbour; first shared bound; enumeration of the others
       guarded([&] {
         for (int p = pb; p < pe; ++p)
           if (is_near(p)) emit_children(p, w);
         publish_known_bound(th, T, w);
       });
+      pp::mark(th, pp::kNearChildren);
       barrier_->arrive_and_wait(T);
+      pp::mark(th, pp::kWaitBound);
       guarded([&] { enumerate_share(th, T, w); });
+      pp::mark(th, pp::kEnumeration);
       // C. merge of the neighbours' children, by key range
-      if (merge && count_near() > 0) {
-        barrier_->arrive_and_wait(T);
-        guarded([&] { merge_share(th, T, w); });
-      }
+      const bool merging = merge && count_near() > 0;
+      if (merging) barrier_->arrive_and_wait(T);
+      pp::mark(th, pp::kWaitMerge);  // (both marks in every step, so the profile's means add up)
+      if (merging) guarded([&] { merge_share(th, T, w); });
+      pp::mark(th, pp::kMerge);
       guarded([&] { finish_candidates(T, w); });
+      pp::mark(th, pp::kTrim);
       // Selection (serial, on the calling thread) and the split of the bank, then the bank on all threads.
       barrier_->arrive_and_wait(T);
+      pp::mark(th, pp::kWaitSelection);
       if (th == 0) {
         guarded([&] { select_kept(info); });
         if (err) region_failed_ = true;
+        pp::mark(th, pp::kSelection);
       }
       barrier_->arrive_and_wait(T);
+      pp::mark(th, pp::kWaitBank);
       if (!region_failed_ && th < bank_threads_)
         guarded([&] {
           bank_part(
               th, t, [&](int i) { return kept_child(i); },
               [&](int i) -> State& { return nmean_[static_cast<std::size_t>(i)]; },
               [&](int i) -> Cov& { return ncov_[static_cast<std::size_t>(i)]; }, nlogw_.data(),
-              [&](int b, int e, ThreadWork& tw) { accumulate_moments(b, e, tw); });
+              [&](int b, int e, ThreadWork& tw) {
+                pp::mark(th, pp::kBank);
+                accumulate_moments(b, e, tw);
+                pp::mark(th, pp::kMoments);
+              });
         });
       if (err) std::rethrow_exception(err);
     });
+    phase_profile::mark(0, phase_profile::kJoin);
     bank_collect(info);
   }
 
