@@ -999,11 +999,19 @@ TEST_CASE("Rbpf and ParticleFilter are movable (estimators own them by value)", 
     ref.step(y[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]);
   }
   Rbpf<ConstantVelocityClock2> b(std::move(a));
-  for (int k = 10; k < 20; ++k) {
+  for (int k = 10; k < 15; ++k) {
     b.step(y[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]);
     ref.step(y[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]);
   }
-  CHECK((b.estimate() - ref.estimate()).cwiseAbs().maxCoeff() < 1e-12);
+  // Move assignment over a filter that has stepped (its pool and scratch go; the moved-from one is empty).
+  Rbpf<ConstantVelocityClock2> c(h.motion, h.st, h.proc, h.q, h.g, opt);
+  c.step(y[0], o[0]);
+  c = std::move(b);
+  for (int k = 15; k < 20; ++k) {
+    c.step(y[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]);
+    ref.step(y[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]);
+  }
+  CHECK((c.estimate() - ref.estimate()).cwiseAbs().maxCoeff() < 1e-12);
   PfOptions po;
   po.num_particles = 1000;
   ParticleFilter<ConstantVelocityClock2> p(h.motion, h.st, h.proc, h.q, h.g, po);
