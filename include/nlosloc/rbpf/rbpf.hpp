@@ -90,7 +90,7 @@ class Rbpf {
         sight_(std::move(sight)),
         quality_(std::move(quality)),
         opt_(options),
-        pool_(std::make_unique<ThreadPool>(options.threads)),
+        threads_(options.threads),
         barrier_(std::make_unique<SpinBarrier>()),
         shared_cut_(std::make_unique<SharedCut[]>(static_cast<std::size_t>(std::max(options.threads, 1)))) {
     ::nlosloc::detail::check_layout<N>(meas);
@@ -156,14 +156,15 @@ class Rbpf {
     cell_.reserve(static_cast<std::size_t>(M) + 1);
     pcell_.assign(static_cast<std::size_t>(M), 0);
     apar_.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
-    // Each thread allocates its own kernel and scratch (glibc then serves them from that thread's arena):
-    // allocated in turn by the caller, one thread's buffers could share cache lines with the next thread's.
-    // H2 rRBPF-128, interleaved 1/2-thread pairs: speed-up 1.44-1.47 before, 1.46-1.50 after.
-    kernels_.resize(static_cast<std::size_t>(pool_->size()));
-    work_.resize(static_cast<std::size_t>(pool_->size()));
-    pool_->parallel_for(pool_->size(), [&](int, int, int th) {
+    // Each thread allocates its own kernel and scratch, from its own glibc arena (Threads frees them the
+    // same way). Allocated in turn by the caller, one thread's buffers could share cache lines with the
+    // next thread's; H2 rRBPF-128, interleaved 1/2-thread pairs: speed-up 1.44-1.47 before, 1.46-1.50 after.
+    threads_.kernels.resize(static_cast<std::size_t>(threads_.pool->size()));
+    threads_.work.resize(static_cast<std::size_t>(threads_.pool->size()));
+    threads_.pool->parallel_for(threads_.pool->size(), [&](int, int, int th) {
       const auto t = static_cast<std::size_t>(th);
-      kernels_[t] = std::make_unique<UkfKernel<Motion, Meas>>(meas_, options.scheme, options.noise_form);
+      threads_.kernels[t] =
+          std::make_unique<UkfKernel<Motion, Meas>>(meas_, options.scheme, options.noise_form);
       auto w = std::make_unique<ThreadWork>();
       w->T.resize(nz_, nz_);
       w->speeds.setZero(B_);
@@ -187,16 +188,16 @@ class Rbpf {
       }
       if (static_cast<std::uint64_t>(per_parent_) < total)
         w->best.reserve(B_, nz_, static_cast<std::uint64_t>(per_parent_));
-      work_[t] = std::move(w);
+      threads_.work[t] = std::move(w);
     });
-    thread_fail_.assign(static_cast<std::size_t>(pool_->size()), 0);
-    split_.assign(static_cast<std::size_t>(pool_->size()) + 1, 0);
-    thread_status_.assign(static_cast<std::size_t>(pool_->size()), CholeskyStatus::kOk);
+    thread_fail_.assign(static_cast<std::size_t>(threads_.pool->size()), 0);
+    split_.assign(static_cast<std::size_t>(threads_.pool->size()) + 1, 0);
+    thread_status_.assign(static_cast<std::size_t>(threads_.pool->size()), CholeskyStatus::kOk);
     Lq_.resize(B_, nz_);
-    crec_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
-    sel_w_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
-    sel_tmp_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
-    sel_ties_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(pool_->size()));
+    crec_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(threads_.pool->size()));
+    sel_w_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(threads_.pool->size()));
+    sel_tmp_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(threads_.pool->size()));
+    sel_ties_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(threads_.pool->size()));
     if ((cap + 63) / 64 <= kBitmapSortPerKept * static_cast<std::size_t>(M)) {
       selbits_.assign((cap + 63) / 64, 0);
       selrank_.assign((cap + 63) / 64, 0);
@@ -208,11 +209,6 @@ class Rbpf {
     y_.resize(meas.rows());
     reset(initial, t0);
   }
-  /// Frees each pool thread's scratch on that thread (free_thread_scratch). Movable, not copyable; a
-  /// moved-from filter may only be destroyed or assigned to.
-  ~Rbpf() { free_thread_scratch(); }
-  Rbpf(Rbpf&&) = default;
-  Rbpf& operator=(Rbpf&&) = default;
 
   /// Restarts from one particle N(initial) with no situation history, at time t0.
   void reset(const Gaussian<N>& initial, double t0 = 0.0) {
@@ -305,22 +301,6 @@ class Rbpf {
   const Meas& measurements() const { return meas_; }
 
  private:
-  /// Frees each thread's kernel and scratch on that thread. Freed by the caller, glibc kept the worker's
-  /// blocks in the caller's cache (tcache) and served the next filter's thread-0 scratch from them, next
-  /// to its thread-1 scratch: 2-thread rRBPF-128 on H2 then took 71-92 us per step depending on the
-  /// filters made before it, 69-79 us with this (12 filters made in turn; commit note).
-  void free_thread_scratch() noexcept {
-    if (!pool_ || pool_->size() < 2) return;
-    try {
-      pool_->parallel_for(pool_->size(), [&](int, int, int th) {
-        const auto t = static_cast<std::size_t>(th);
-        if (t < kernels_.size()) kernels_[t].reset();
-        if (t < work_.size()) work_[t].reset();
-      });
-    } catch (...) {  // (nothing here throws; the members' destructors free whatever is left)
-    }
-  }
-
   int check(int i) const {
     NLOSLOC_ENSURE(i >= 0 && i < count_,
                    "i: expected a particle index in [0, " + std::to_string(count_) + ")");
@@ -335,7 +315,7 @@ class Rbpf {
   /// that, the hand-offs cost more than the second core saves (H2 model: 2 threads are slower at M = 16,
   /// even at M = 24-48 and faster from M = 64; bench/tools note in the commit).
   static constexpr int kMinParallel = 64;
-  int active_threads(int n) const { return n >= kMinParallel ? pool_->size() : 1; }
+  int active_threads(int n) const { return n >= kMinParallel ? threads_.pool->size() : 1; }
 
   /// A child for the UKF bank: its parent, prior log weight and situation key.
   struct BankChild {
@@ -369,6 +349,42 @@ class Rbpf {
     State m1;
     Cov m2;
     MatX mprob;
+  };
+
+  /// The pool and each pool thread's UKF kernel and scratch (threads x entries). Each thread allocates
+  /// (Rbpf constructor) and frees (here) its own entries: freed by the caller, glibc kept the worker's
+  /// blocks in the caller's cache (tcache) and served the next filter's thread-0 scratch from them, next
+  /// to its thread-1 scratch; 2-thread rRBPF-128 on H2 then took 71-92 us per step depending on the
+  /// filters made before it, 69-79 us with this (12 filters made in turn; commit b60f6d7). The pool is
+  /// owned through a pointer (workers keep its address), so Rbpf stays movable.
+  struct Threads {
+    std::unique_ptr<ThreadPool> pool;
+    std::vector<std::unique_ptr<UkfKernel<Motion, Meas>>> kernels;
+    std::vector<std::unique_ptr<ThreadWork>> work;
+
+    explicit Threads(int n) : pool(std::make_unique<ThreadPool>(n)) {}
+    ~Threads() { release(); }
+    Threads(Threads&&) = default;
+    Threads& operator=(Threads&& other) noexcept {
+      if (this != &other) {
+        release();
+        pool = std::move(other.pool);
+        kernels = std::move(other.kernels);
+        work = std::move(other.work);
+      }
+      return *this;
+    }
+    /// Frees each thread's entries on that thread (a moved-from or one-thread set: on this one).
+    void release() noexcept {
+      if (!pool || pool->size() < 2 || kernels.size() != static_cast<std::size_t>(pool->size())) return;
+      try {
+        pool->parallel_for(pool->size(), [&](int, int, int th) {
+          kernels[static_cast<std::size_t>(th)].reset();
+          work[static_cast<std::size_t>(th)].reset();
+        });
+      } catch (...) {  // (nothing here throws; the vectors' destructors free whatever is left)
+      }
+    }
   };
 
   /// A(b, z) = log P(s_b,t = z | s_b,t-1) + log p(o_b | z) for parent p (eqs. 9, 25, 32).
@@ -440,8 +456,8 @@ class Rbpf {
 
   /// Classical order: every child of every parent into off_*, parents split over the pool.
   int expand_all(long k) {
-    pool_->parallel_for(count_, [&](int pb, int pe, int th) {
-      ThreadWork& w = *work_[static_cast<std::size_t>(th)];
+    threads_.pool->parallel_for(count_, [&](int pb, int pe, int th) {
+      ThreadWork& w = *threads_.work[static_cast<std::size_t>(th)];
       for (int p = pb; p < pe; ++p) {
         parent_factors(p, k, w, apar_[static_cast<std::size_t>(p)]);
         emit_children(p, w);
@@ -476,10 +492,10 @@ class Rbpf {
     const bool merge = opt_.merge && count_ > 1;
     region_failed_ = false;
     const unsigned gen = ++region_gen_;
-    pool_->parallel_for(T, [&](int th, int, int) {
+    threads_.pool->parallel_for(T, [&](int th, int, int) {
       namespace pp = phase_profile;
       pp::mark(th, pp::kRegionStart);
-      ThreadWork& w = *work_[static_cast<std::size_t>(th)];
+      ThreadWork& w = *threads_.work[static_cast<std::size_t>(th)];
       std::exception_ptr err;
       auto guarded = [&](auto&& f) {
         if (err) return;
@@ -580,7 +596,7 @@ class Rbpf {
     info.merged = 0;
     crec_.clear();
     for (int th = 0; th < expand_threads_; ++th) {
-      const ThreadWork& w = *work_[static_cast<std::size_t>(th)];
+      const ThreadWork& w = *threads_.work[static_cast<std::size_t>(th)];
       info.merged += w.merged;
       crec_.insert(crec_.end(), w.crec.begin(), w.crec.end());
     }
@@ -606,7 +622,7 @@ class Rbpf {
   /// True when parent p has a neighbour within d_min (set by any thread's sweep this step).
   bool is_near(int p) const {
     for (int th = 0; th < expand_threads_; ++th)
-      if (work_[static_cast<std::size_t>(th)]->near[static_cast<std::size_t>(p)]) return true;
+      if (threads_.work[static_cast<std::size_t>(th)]->near[static_cast<std::size_t>(p)]) return true;
     return false;
   }
   int count_near() const {
@@ -951,7 +967,7 @@ class Rbpf {
     // eq. (33): w_t = w_t|t-1 p(y_t | s_1:t, y_1:t-1), normalised (log-sum-exp over the threads' sums)
     double z = -kInf;
     for (int th = 0; th < bank_threads_; ++th)
-      if (const auto& w = work_[static_cast<std::size_t>(th)]; w->m0 > 0.0)
+      if (const auto& w = threads_.work[static_cast<std::size_t>(th)]; w->m0 > 0.0)
         z = log_add(z, w->mmax + std::log(w->m0));
     if (!std::isfinite(z))
       nlosloc::detail::throw_numerical_error("Rbpf.step: every UKF update failed or had zero likelihood");
@@ -961,7 +977,7 @@ class Rbpf {
     Cov m2 = Cov::Zero();
     prob_.setZero();
     for (int th = 0; th < bank_threads_; ++th) {
-      const auto& w = work_[static_cast<std::size_t>(th)];
+      const auto& w = threads_.work[static_cast<std::size_t>(th)];
       if (!(w->m0 > 0.0)) continue;
       const double f = std::exp(w->mmax - z);
       d += f * w->m1;
@@ -1095,8 +1111,8 @@ class Rbpf {
   void run_bank(int n, double t, Child child, MeanOut mean_out, CovOut cov_out, double* logw,
                 RbpfStepInfo& info, After after) {
     bank_split(n, active_threads(n), child);
-    pool_->parallel_for(bank_threads_,
-                        [&](int th, int, int) { bank_part(th, t, child, mean_out, cov_out, logw, after); });
+    threads_.pool->parallel_for(
+        bank_threads_, [&](int th, int, int) { bank_part(th, t, child, mean_out, cov_out, logw, after); });
     bank_collect(info);
   }
 
@@ -1117,8 +1133,8 @@ class Rbpf {
   template <class Child, class MeanOut, class CovOut, class After>
   void bank_part(int th, double t, Child child, MeanOut mean_out, CovOut cov_out, double* logw, After after) {
     const int b = split_[static_cast<std::size_t>(th)], e = split_[static_cast<std::size_t>(th) + 1];
-    auto& ker = *kernels_[static_cast<std::size_t>(th)];
-    VecXi& s = work_[static_cast<std::size_t>(th)]->s;
+    auto& ker = *threads_.kernels[static_cast<std::size_t>(th)];
+    VecXi& s = threads_.work[static_cast<std::size_t>(th)]->s;
     int last = -1;
     CholeskyStatus pst = CholeskyStatus::kOk;
     StepResult res;
@@ -1155,7 +1171,7 @@ class Rbpf {
     }
     thread_fail_[static_cast<std::size_t>(th)] = fails;
     thread_status_[static_cast<std::size_t>(th)] = ts;
-    after(b, e, *work_[static_cast<std::size_t>(th)]);
+    after(b, e, *threads_.work[static_cast<std::size_t>(th)]);
   }
 
   void bank_collect(RbpfStepInfo& info) const {
@@ -1194,7 +1210,7 @@ class Rbpf {
   situation::SightProcess sight_;
   situation::QualityModel quality_;
   RbpfOptions opt_;
-  std::unique_ptr<ThreadPool> pool_;  // owned through a pointer: workers keep its address; Rbpf stays movable
+  Threads threads_;                       // the pool and each thread's kernel and scratch
   std::unique_ptr<SpinBarrier> barrier_;  // inside reordered_region (pointer: Rbpf stays movable)
   struct alignas(64) SharedCut {          // one cache line per thread
     std::atomic<double> q{-std::numeric_limits<double>::infinity()};
@@ -1244,8 +1260,6 @@ class Rbpf {
   std::vector<MatX> apar_;  // per-parent factors A (B x N_z)
   MergeWorkspace mws_;      // classical RBPF's merge
   // per-thread UKF workspaces
-  std::vector<std::unique_ptr<UkfKernel<Motion, Meas>>> kernels_;
-  std::vector<std::unique_ptr<ThreadWork>> work_;
   std::vector<int> thread_fail_;
   std::vector<int> split_;                     // run_bank: first child of each thread (size threads + 1)
   State centre_;                               // c of accumulate_moments
