@@ -35,16 +35,14 @@ struct Timeline {
   std::vector<std::vector<double>> share;  // [thread][phase]: fraction of the steps that recorded it
 };
 
-/// Sums recorded in `after` minus those in `before`.
-pp::Totals minus(const pp::Totals& after, const pp::Totals& before) {
-  pp::Totals d = after;
-  d.steps -= before.steps;
-  for (std::size_t t = 0; t < d.end_us.size(); ++t)
-    for (std::size_t p = 0; p < d.end_us[t].size(); ++p) {
-      d.end_us[t][p] -= before.end_us[t][p];
-      d.hits[t][p] -= before.hits[t][p];
+/// Adds the sums of `more` to `sum`.
+void add(pp::Totals& sum, const pp::Totals& more) {
+  sum.steps += more.steps;
+  for (std::size_t t = 0; t < sum.threads.size(); ++t)
+    for (std::size_t p = 0; p < pp::kPhaseCount; ++p) {
+      sum.threads[t].end_us[p] += more.threads[t].end_us[p];
+      sum.threads[t].hits[p] += more.threads[t].hits[p];
     }
-  return d;
 }
 
 /// Runs `steps` timed steps (cycling the 1024-step track; the filter restarts at each cycle and its 50
@@ -58,27 +56,15 @@ Timeline run(int threads, int particles, bool augmented, long steps) {
   opt.noise_form = augmented ? NoiseForm::kAugmented : NoiseForm::kAdditive;
   rbpf::Rbpf<ConstantVelocityClock2> f(h.motion, h.st, h.proc, h.q, h.init, opt);
   constexpr std::size_t kWarm = 50;
-  pp::reset();
-  pp::Totals left_out;  // the warm-up steps' sums
-  std::size_t k = 0;
+  pp::Totals tot;
   for (long done = 0; done < steps;) {
-    if (k % 1024 == 0) {
-      const pp::Totals before = pp::snapshot();
-      f.reset(h.init);
-      for (std::size_t w = 0; w < kWarm; ++w, ++k) f.step(h.y[k % 1024], h.o[k % 1024]);
-      const pp::Totals warm = minus(pp::snapshot(), before);
-      left_out.steps += warm.steps;
-      for (std::size_t t = 0; t < warm.end_us.size(); ++t)
-        for (std::size_t p = 0; p < warm.end_us[t].size(); ++p) {
-          left_out.end_us[t][p] += warm.end_us[t][p];
-          left_out.hits[t][p] += warm.hits[t][p];
-        }
-    }
-    f.step(h.y[k % 1024], h.o[k % 1024]);
-    ++k;
-    ++done;
+    f.reset(h.init);
+    std::size_t k = 0;
+    for (; k < kWarm; ++k) f.step(h.y[k], h.o[k]);
+    pp::reset();
+    for (; k < h.y.size() && done < steps; ++k, ++done) f.step(h.y[k], h.o[k]);
+    add(tot, pp::snapshot());
   }
-  const pp::Totals tot = minus(pp::snapshot(), left_out);
   Timeline tl;
   tl.threads = threads;
   tl.steps = tot.steps;
@@ -87,9 +73,9 @@ Timeline run(int threads, int particles, bool augmented, long steps) {
   tl.share.assign(static_cast<std::size_t>(shown), std::vector<double>(pp::kPhaseCount, 0.0));
   for (std::size_t t = 0; t < static_cast<std::size_t>(shown); ++t)
     for (std::size_t p = 0; p < pp::kPhaseCount; ++p)
-      if (tot.hits[t][p] > 0) {
-        tl.end[t][p] = tot.end_us[t][p] / static_cast<double>(tot.hits[t][p]);
-        tl.share[t][p] = static_cast<double>(tot.hits[t][p]) / static_cast<double>(tot.steps);
+      if (const long hits = tot.threads[t].hits[p]; hits > 0) {
+        tl.end[t][p] = tot.threads[t].end_us[p] / static_cast<double>(hits);
+        tl.share[t][p] = static_cast<double>(hits) / static_cast<double>(tot.steps);
       }
   return tl;
 }

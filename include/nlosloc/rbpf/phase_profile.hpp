@@ -56,31 +56,30 @@ inline const char* name(Phase p) {
 /// Threads with a slot (a region's threads beyond it are not recorded).
 inline constexpr int kMaxThreads = 8;
 
-/// Sums over the recorded steps: per thread and phase, the summed end time (microseconds from the step's
-/// start) and how many steps recorded it.
+/// One thread's sums over the recorded steps: per phase, the summed end time (microseconds from the step's
+/// start) and how many steps recorded it. A line of its own: the threads write theirs concurrently.
+struct alignas(64) ThreadSums {
+  std::array<double, kPhaseCount> end_us{};
+  std::array<long, kPhaseCount> hits{};
+};
+
+/// The recorded steps and each thread's sums.
 struct Totals {
   long steps = 0;
-  std::array<std::array<double, kPhaseCount>, kMaxThreads> end_us{};
-  std::array<std::array<long, kPhaseCount>, kMaxThreads> hits{};
+  std::array<ThreadSums, kMaxThreads> threads{};
 };
 
 namespace detail {
 using Clock = std::chrono::steady_clock;
-// One slot per thread on lines of its own (the threads write them concurrently).
-struct alignas(64) Slot {
-  std::array<double, kPhaseCount> end_us{};
-  std::array<long, kPhaseCount> hits{};
-};
-inline std::array<Slot, kMaxThreads> slots;
+inline Totals totals;
 inline Clock::time_point step_start;
-inline long steps = 0;
 }  // namespace detail
 
 /// Starts a step's timeline (the filter's calling thread, before its region).
 inline void begin_step() {
   if constexpr (kEnabled) {
     detail::step_start = detail::Clock::now();
-    ++detail::steps;
+    ++detail::totals.steps;
   }
 }
 
@@ -90,7 +89,7 @@ inline void mark(int thread, Phase p) {
     if (thread < 0 || thread >= kMaxThreads) return;
     const double us =
         std::chrono::duration<double, std::micro>(detail::Clock::now() - detail::step_start).count();
-    auto& s = detail::slots[static_cast<std::size_t>(thread)];
+    auto& s = detail::totals.threads[static_cast<std::size_t>(thread)];
     s.end_us[static_cast<std::size_t>(p)] += us;
     ++s.hits[static_cast<std::size_t>(p)];
   } else {
@@ -100,20 +99,9 @@ inline void mark(int thread, Phase p) {
 }
 
 /// Clears the sums (between steps).
-inline void reset() {
-  for (auto& s : detail::slots) s = detail::Slot{};
-  detail::steps = 0;
-}
+inline void reset() { detail::totals = Totals{}; }
 
 /// The sums so far (between steps).
-inline Totals snapshot() {
-  Totals t;
-  t.steps = detail::steps;
-  for (std::size_t th = 0; th < detail::slots.size(); ++th) {
-    t.end_us[th] = detail::slots[th].end_us;
-    t.hits[th] = detail::slots[th].hits;
-  }
-  return t;
-}
+inline Totals snapshot() { return detail::totals; }
 
 }  // namespace nlosloc::rbpf::phase_profile
