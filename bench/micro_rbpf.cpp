@@ -113,6 +113,7 @@ BENCHMARK(BM_Pf)
     ->Args({100000, 2, 0})
     ->Args({1000000, 1, 0})
     ->Args({1000000, 2, 0})
+    ->Args({1000000, 1, 1})
     ->Args({1000000, 2, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -61,6 +61,22 @@ TEST_CASE("BatchRng lanes are the parent Rng jumped 1 to 4 times", "[pf][random]
   CHECK(parent() == Rng(42, 7)());
 }
 
+TEST_CASE("pf_simd_lanes: the widest packet of the instruction set this file is compiled for", "[pf]") {
+  // nlosloc_native_tests compiles this file with -march=native: on an AVX-512 or AVX machine this checks
+  // that the PF's loops there really run on the wider packets.
+#if defined(__AVX512F__)
+  CHECK(pf_simd_lanes() == 8);
+#elif defined(__AVX__)
+  CHECK(pf_simd_lanes() == 4);
+#elif defined(__SSE2__) || defined(__ARM_NEON)
+  CHECK(pf_simd_lanes() == 2);
+#else
+  CHECK(pf_simd_lanes() >= 1);
+#endif
+  CHECK(rbpf::detail::kPfLanes * static_cast<int>(sizeof(double)) ==
+        static_cast<int>(sizeof(rbpf::detail::PfPacket)));
+}
+
 TEST_CASE("BatchRng uniforms are in (0, 1) with the uniform moments", "[pf][random]") {
   BatchRng r(Rng(3));
   const int n = 1 << 20;

@@ -1,6 +1,8 @@
 """nlosloc.rbpf: RBPF (classical, reordered), joint PF, IUKF, merge/resampling helpers; and
 nlosloc.bounds.gcrb_rtoa."""
 
+import platform
+
 import numpy as np
 import pytest
 
@@ -136,6 +138,15 @@ def test_merge_and_resampling_helpers():
         rbpf.merge_greedy([0, 0], np.array([[0.0, 0.1]]), np.array([np.nan, -1.0]), 1.0)
     with pytest.raises(ValueError, match=r"^w: expected finite weights >= 0 summing to 1"):
         rbpf.systematic_resample(np.array([-1.0, 2.0]), 4, 0.5)
+
+
+def test_pf_simd_lanes_is_a_packet_width():
+    # Doubles per SIMD packet of the PF's loops in this build: x86-64 always has SSE2 (2 lanes);
+    # a build with -Ccmake.define.NLOSLOC_NATIVE=ON has 4 (AVX2) or 8 (AVX-512).
+    lanes = rbpf.pf_simd_lanes()
+    assert lanes in (1, 2, 4, 8)
+    if platform.machine().lower() in ("x86_64", "amd64"):
+        assert lanes >= 2
 
 
 def test_gcrb_below_crb():

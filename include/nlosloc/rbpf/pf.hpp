@@ -115,12 +115,18 @@ void systematic_resample(const W& w, int n, int M, double u0, int* out) {
 }
 
 namespace detail {
-/// SIMD packet of doubles of the build (Eigen's Packet2d with SSE2; plain double when Eigen does not
-/// vectorise): the joint PF's inner loops are written once on Eigen's packet functions and run on packets,
-/// with the same template on double for the tails.
+/// SIMD packet of doubles of the build, Eigen's widest for the instruction set the translation unit is
+/// compiled for: Packet2d with SSE2 (x86-64's baseline) or NEON, Packet4d with AVX, Packet8d with AVX-512
+/// (-march=native on such a CPU: CMake option NLOSLOC_NATIVE), plain double when Eigen does not vectorise.
+/// The joint PF's inner loops are written once on Eigen's packet functions and run on packets, with the
+/// same template on double for the tails.
 using PfPacket = Eigen::internal::packet_traits<double>::type;
 inline constexpr int kPfLanes = static_cast<int>(sizeof(PfPacket) / sizeof(double));
 }  // namespace detail
+
+/// Doubles per SIMD packet in ParticleFilter's inner loops for this build (2 on x86-64 without -march
+/// flags; 8 with AVX-512). Compile-time: it describes the translation unit that calls it.
+constexpr int pf_simd_lanes() { return detail::kPfLanes; }
 
 /// Bootstrap particle filter over (x, s).
 ///

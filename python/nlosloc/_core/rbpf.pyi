@@ -10,7 +10,7 @@ import nlosloc._core.situation
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfStepInfo', 'RbpfVariant', 'default_merge_threshold', 'merge_greedy', 'situation_count', 'systematic_resample']
+__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfStepInfo', 'RbpfVariant', 'default_merge_threshold', 'merge_greedy', 'pf_simd_lanes', 'situation_count', 'systematic_resample']
 class RbpfVariant:
     """
     Order of the RBPF iteration.
@@ -486,6 +486,10 @@ def default_merge_threshold(position_variance: typing.SupportsFloat | typing.Sup
 def merge_greedy(keys: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], d_min: typing.SupportsFloat | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], int]:
     """
     Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, number absorbed).
+    """
+def pf_simd_lanes() -> int:
+    """
+    Doubles per SIMD packet in ParticleFilter's inner loops for this build of the module: 2 on x86-64 by default, 4 (AVX2) or 8 (AVX-512) when built with -Ccmake.define.NLOSLOC_NATIVE=ON on such a CPU.
     """
 def situation_count(num_conditions: typing.SupportsInt | typing.SupportsIndex, num_anchors: typing.SupportsInt | typing.SupportsIndex) -> int:
     """
