@@ -9,15 +9,6 @@ function(nlosloc_target_warnings target)
       # false positive). Real out-of-bounds accesses are the asan preset's job.
       target_compile_options(${target} PRIVATE -Wno-array-bounds)
     endif()
-    get_target_property(_opts ${target} COMPILE_OPTIONS)
-    get_directory_property(_dir_opts COMPILE_OPTIONS)
-    if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13
-       AND ("-march=native" IN_LIST _opts OR "-march=native" IN_LIST _dir_opts))
-      # GCC 12's AVX-512 intrinsics (the undefined first operand of _mm512_* in avx512fintrin.h, inlined
-      # into Eigen's Packet8d functions) trip -W(maybe-)uninitialized on any AVX-512 machine (GCC bug
-      # 105593, fixed in GCC 13). The same sources built without -march=native keep both warnings.
-      target_compile_options(${target} PRIVATE -Wno-uninitialized -Wno-maybe-uninitialized)
-    endif()
   elseif(MSVC)
     target_compile_options(${target} PRIVATE /W4 $<$<BOOL:${NLOSLOC_WERROR}>:/WX>)
   endif()
