@@ -456,8 +456,8 @@ void bind_rbpf(py::module_& m) {
   m.def(
       "situation_count", [](int nz, int B) { return situation_count(nz, B); }, py::arg("num_conditions"),
       py::arg("num_anchors"), "N_z^B (0 when above 2^62).");
-  m.def(
-      "pf_simd_lanes", &pf_simd_lanes,
-      "Doubles per SIMD packet in ParticleFilter's inner loops for this build of the module: 2 on x86-64 "
-      "by default, 4 (AVX2) or 8 (AVX-512) when built with -Ccmake.define.NLOSLOC_NATIVE=ON on such a CPU.");
+  m.def("pf_simd_lanes", &pf_simd_lanes,
+        "Doubles per SIMD packet in ParticleFilter's inner loops for this build of the module: 2 on x86-64 "
+        "by default, 4 (AVX, AVX2) or 8 (AVX-512) when built with -Ccmake.define.NLOSLOC_NATIVE=ON on such a "
+        "CPU.");
 }

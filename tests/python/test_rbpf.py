@@ -142,7 +142,7 @@ def test_merge_and_resampling_helpers():
 
 def test_pf_simd_lanes_is_a_packet_width():
     # Doubles per SIMD packet of the PF's loops in this build: x86-64 always has SSE2 (2 lanes);
-    # a build with -Ccmake.define.NLOSLOC_NATIVE=ON has 4 (AVX2) or 8 (AVX-512).
+    # a build with -Ccmake.define.NLOSLOC_NATIVE=ON has 4 (AVX, AVX2) or 8 (AVX-512).
     lanes = rbpf.pf_simd_lanes()
     assert lanes in (1, 2, 4, 8)
     if platform.machine().lower() in ("x86_64", "amd64"):

@@ -489,7 +489,7 @@ def merge_greedy(keys: collections.abc.Sequence[typing.SupportsInt | typing.Supp
     """
 def pf_simd_lanes() -> int:
     """
-    Doubles per SIMD packet in ParticleFilter's inner loops for this build of the module: 2 on x86-64 by default, 4 (AVX2) or 8 (AVX-512) when built with -Ccmake.define.NLOSLOC_NATIVE=ON on such a CPU.
+    Doubles per SIMD packet in ParticleFilter's inner loops for this build of the module: 2 on x86-64 by default, 4 (AVX, AVX2) or 8 (AVX-512) when built with -Ccmake.define.NLOSLOC_NATIVE=ON on such a CPU.
     """
 def situation_count(num_conditions: typing.SupportsInt | typing.SupportsIndex, num_anchors: typing.SupportsInt | typing.SupportsIndex) -> int:
     """
