@@ -11,7 +11,8 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
 jobs="${NLOSLOC_JOBS:-$(nproc)}"
-step() { printf '\n==== %s\n' "$*" >&2; }
+# Each step's header carries the seconds since the start, so a slow CI run shows which step grew.
+step() { printf '\n==== %s (at %d s)\n' "$*" "$SECONDS" >&2; }
 
 step "bootstrap"
 bash scripts/bootstrap.sh
