@@ -1,3 +1,4 @@
-// The one main() of nlosloc_tests; the test cases live in tests/cpp/test_*.cpp.
+// The main() of every Catch2 test executable (object library nlosloc_catch_main); the test cases live in
+// tests/cpp/test_*.cpp and tests/nomalloc.
 #define CATCH_CONFIG_MAIN
 #include <catch2/catch.hpp>

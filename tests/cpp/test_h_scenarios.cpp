@@ -19,9 +19,6 @@ using namespace nlosloc;
 using namespace nlosloc::sim;
 using Catch::Matchers::WithinAbs;
 
-template class nlosloc::sim::RbpfEstimator<ConstantVelocity2>;
-template class nlosloc::sim::RbpfEstimator<ConstantVelocityClock2>;
-
 namespace {
 bool same(const RowMatX& a, const RowMatX& b) {
   return a.rows() == b.rows() && a.cols() == b.cols() &&

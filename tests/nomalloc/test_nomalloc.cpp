@@ -1,8 +1,7 @@
 // No heap allocation in a filter step: built as its own executable with EIGEN_RUNTIME_NO_MALLOC, so any
 // Eigen allocation inside step() aborts the test (Eigen's own check, not a timing or a guess), and with
 // the global operator new replaced by a counting one, so std:: containers that grow are caught too.
-#define EIGEN_RUNTIME_NO_MALLOC
-#define CATCH_CONFIG_MAIN
+#define EIGEN_RUNTIME_NO_MALLOC  // main() is Catch2's, in the shared object tests/cpp/main.cpp
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cstdlib>

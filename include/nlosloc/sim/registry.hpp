@@ -1,29 +1,28 @@
 #pragma once
 /// \file registry.hpp
-/// The built-in registry of scenarios and estimators used by nlosloc-bench and the Python bindings.
-/// Adding a scenario is one register_<name>(r) line here; adding an estimator to a scenario is one
-/// r.add_estimator<Scenario>(...) line in that scenario's register function.
-#include "nlosloc/sim/h1.hpp"
-#include "nlosloc/sim/h2.hpp"
-#include "nlosloc/sim/k1.hpp"
-#include "nlosloc/sim/k2.hpp"
-#include "nlosloc/sim/k3.hpp"
+/// The built-in registry of scenarios and estimators used by nlosloc-bench and the Python bindings (its
+/// contents: builtin.hpp).
+///
+/// Included on its own (users, the Python module), this header defines registry() inline. The C++ tests
+/// and the bench link the build-tree object library nlosloc_registry instead, which defines
+/// NLOSLOC_COMPILED_REGISTRY and compiles registry() once (src/registry.cpp): the estimators of every
+/// scenario are most of the compile time of a file that calls registry(), and three of theirs do.
 #include "nlosloc/sim/scenario.hpp"
+#ifndef NLOSLOC_COMPILED_REGISTRY
+#include "nlosloc/sim/builtin.hpp"
+#endif
 
 namespace nlosloc::sim {
 
+#ifdef NLOSLOC_COMPILED_REGISTRY
+/// The registry with every built-in scenario and estimator; built on first use (thread-safe), then read-only.
+const Registry& registry();  // src/registry.cpp
+#else
 /// The registry with every built-in scenario and estimator; built on first use (thread-safe), then read-only.
 inline const Registry& registry() {
-  static const Registry r = [] {
-    Registry reg;
-    register_k1(reg);  // Ke & Wu 2011 Sec. 6.1
-    register_k2(reg);  // Ke & Wu 2011 Sec. 6.2
-    register_k3(reg);  // Ke & Wu 2011 Sec. 6.4
-    register_h1(reg);  // Huerta et al. 2009 Sec. VI-A
-    register_h2(reg);  // Huerta et al. 2009 Sec. VI-B
-    return reg;
-  }();
+  static const Registry r = make_builtin_registry();
   return r;
 }
+#endif
 
 }  // namespace nlosloc::sim
