@@ -17,7 +17,7 @@ template class RbpfEstimator<ConstantVelocity2>;
 template class RbpfEstimator<ConstantVelocityClock2>;
 
 const Registry& registry() {
-  static const Registry r = make_builtin_registry();
+  static const Registry r = nlosloc::detail::make_builtin_registry();
   return r;
 }
 

@@ -10,17 +10,18 @@
 #include "nlosloc/sim/k3.hpp"
 #include "nlosloc/sim/scenario.hpp"
 
-namespace nlosloc::sim {
+namespace nlosloc::detail {
 
-/// A registry with every built-in scenario and estimator.
-inline Registry make_builtin_registry() {
-  Registry reg;
-  register_k1(reg);  // Ke & Wu 2011 Sec. 6.1
-  register_k2(reg);  // Ke & Wu 2011 Sec. 6.2
-  register_k3(reg);  // Ke & Wu 2011 Sec. 6.4
-  register_h1(reg);  // Huerta et al. 2009 Sec. VI-A
-  register_h2(reg);  // Huerta et al. 2009 Sec. VI-B
+/// A registry with every built-in scenario and estimator: what registry() holds (the API is registry(),
+/// the same in C++ and Python; this is how its two definitions fill it).
+inline sim::Registry make_builtin_registry() {
+  sim::Registry reg;
+  sim::register_k1(reg);  // Ke & Wu 2011 Sec. 6.1
+  sim::register_k2(reg);  // Ke & Wu 2011 Sec. 6.2
+  sim::register_k3(reg);  // Ke & Wu 2011 Sec. 6.4
+  sim::register_h1(reg);  // Huerta et al. 2009 Sec. VI-A
+  sim::register_h2(reg);  // Huerta et al. 2009 Sec. VI-B
   return reg;
 }
 
-}  // namespace nlosloc::sim
+}  // namespace nlosloc::detail

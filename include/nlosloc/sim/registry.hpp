@@ -14,13 +14,12 @@
 
 namespace nlosloc::sim {
 
-#ifdef NLOSLOC_COMPILED_REGISTRY
 /// The registry with every built-in scenario and estimator; built on first use (thread-safe), then read-only.
+#ifdef NLOSLOC_COMPILED_REGISTRY
 const Registry& registry();  // src/registry.cpp
 #else
-/// The registry with every built-in scenario and estimator; built on first use (thread-safe), then read-only.
 inline const Registry& registry() {
-  static const Registry r = make_builtin_registry();
+  static const Registry r = nlosloc::detail::make_builtin_registry();
   return r;
 }
 #endif
