@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The project's test command (also .ci/run). Stops at the first failure.
 #   1. scripts/bootstrap.sh (system packages, .venv)
-#   2. C++: configure + build build/test (Ninja, Release, tests + bench, NLOSLOC_WERROR=ON), ctest
+#   2. C++: configure + build build/test (Ninja, Release, tests + bench, NLOSLOC_WERROR=ON, unity batches
+#      of the tests: NLOSLOC_UNITY_TESTS=ON), ctest
 #   3. Python: `pip install --no-build-isolation .` into .venv (a regular, non-editable install: the
 #      wheel is built incrementally in build/<wheel_tag>, the build deps come from .venv; -Werror on),
 #      then pytest (which includes the stub drift test)
@@ -19,7 +20,7 @@ bash scripts/bootstrap.sh
 
 step "C++ build (build/test)"
 cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Release -DNLOSLOC_BUILD_TESTS=ON \
-  -DNLOSLOC_BUILD_BENCH=ON -DNLOSLOC_BUILD_PYTHON=OFF -DNLOSLOC_WERROR=ON
+  -DNLOSLOC_BUILD_BENCH=ON -DNLOSLOC_BUILD_PYTHON=OFF -DNLOSLOC_WERROR=ON -DNLOSLOC_UNITY_TESTS=ON
 cmake --build build/test -j "$jobs"
 
 step "C++ tests (ctest)"

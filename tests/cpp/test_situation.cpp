@@ -186,7 +186,7 @@ TEST_CASE("a reducible chain starts from the uniform prior", "[situation]") {
 }
 
 namespace {
-MeasurementStack toa_stack() {
+MeasurementStack iukf_stack() {
   MatX anchors(3, 2);
   anchors << 0, 0, 1000, 0, 0, 1000;
   MeasurementStack st(ConstantVelocity2::layout(), anchors, 2);
@@ -198,7 +198,7 @@ MeasurementStack toa_stack() {
 
 TEST_CASE("IUKF reduces to the UKF when the forward filter is certain", "[situation][iukf]") {
   const ConstantVelocity2 motion(0.1, 1.0);
-  const MeasurementStack st = toa_stack();
+  const MeasurementStack st = iukf_stack();
   Gaussian<4> g;
   g.mean << 300, 400, 1, 2;
   g.cov = Vec<4>(100, 100, 4, 4).asDiagonal();
