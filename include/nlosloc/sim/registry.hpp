@@ -6,7 +6,7 @@
 /// Included on its own (users, the Python module), this header defines registry() inline. The C++ tests
 /// and the bench link the build-tree object library nlosloc_registry instead, which defines
 /// NLOSLOC_COMPILED_REGISTRY and compiles registry() once (src/registry.cpp): the estimators of every
-/// scenario are most of the compile time of a file that calls registry(), and three of their files do.
+/// scenario are most of the compile time of a file that calls registry(), and three of nlosloc's own do.
 #include "nlosloc/sim/scenario.hpp"
 #ifndef NLOSLOC_COMPILED_REGISTRY
 #include "nlosloc/sim/builtin.hpp"
