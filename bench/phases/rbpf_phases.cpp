@@ -4,20 +4,31 @@
 // read each (about 20 per thread and step), so the step times here run a little above nlosloc-micro's
 // BM_Rbpf, which is the speed measurement.
 //
-//     nlosloc-rbpf-phases [--particles 128] [--threads 1,2] [--steps 20000] [--augmented]
+//     nlosloc-rbpf-phases [--particles 128] [--threads 1,2] [--steps 20000] [--augmented] [--pin 0,1]
+//
+// --pin A,B runs the calling thread (thread 0) on CPU A and the pool's workers on CPU B (Linux): with
+// B,A against A,B it tells a slow CPU (the slow thread follows the CPU) from a slow share of the work
+// (it stays with the thread).
 //
 // For each thread count: per phase and thread, the mean time from the step's start to the phase's end and
 // the phase's mean duration; then the UKF bank (bank + moments, slowest thread) and the rest of the step
 // against the 1-thread run. Exit code 2 on a bad argument, 1 when a thread's phase ends are out of order.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "../h2_micro_model.hpp"
 #include "nlosloc/rbpf/phase_profile.hpp"
 #include "nlosloc/rbpf/rbpf.hpp"
+
+#if defined(__linux__)
+#include <sched.h>
+#endif
 
 #ifndef NLOSLOC_RBPF_PHASE_PROFILE
 #error "bench/phases/rbpf_phases.cpp needs NLOSLOC_RBPF_PHASE_PROFILE (its CMake target defines it)"
@@ -45,16 +56,34 @@ void add(pp::Totals& sum, const pp::Totals& more) {
     }
 }
 
+/// Restricts the calling thread to `cpu` (threads it creates inherit it); false and a message on failure.
+bool pin_to(int cpu) {
+#if defined(__linux__)
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  CPU_SET(cpu, &set);
+  if (sched_setaffinity(0, sizeof set, &set) == 0) return true;
+  std::fprintf(stderr, "error: --pin: cannot run on CPU %d: %s\n", cpu, std::strerror(errno));
+#else
+  std::fprintf(stderr, "error: --pin: CPU affinity is supported on Linux only (CPU %d)\n", cpu);
+#endif
+  return false;
+}
+
 /// Runs `steps` timed steps (cycling the 1024-step track; the filter restarts at each cycle and its 50
 /// first steps, with few particles, are left out of the sums) and returns the mean timeline.
-Timeline run(int threads, int particles, bool augmented, long steps) {
+/// pin: {caller CPU, worker CPU}, or empty.
+Timeline run(int threads, int particles, bool augmented, long steps, const std::vector<int>& pin) {
   const bench::H2Model& h = bench::model();
   rbpf::RbpfOptions opt;
   opt.variant = rbpf::RbpfVariant::kReordered;
   opt.num_particles = particles;
   opt.threads = threads;
   opt.noise_form = augmented ? NoiseForm::kAugmented : NoiseForm::kAdditive;
+  // The filter's pool starts its workers in the constructor: they inherit the worker CPU.
+  if (!pin.empty() && !pin_to(pin[1])) std::exit(2);
   rbpf::Rbpf<ConstantVelocityClock2> f(h.motion, h.st, h.proc, h.q, h.init, opt);
+  if (!pin.empty() && !pin_to(pin[0])) std::exit(2);
   constexpr std::size_t kWarm = 50;
   pp::Totals tot;
   for (long done = 0; done < steps;) {
@@ -149,6 +178,7 @@ int main(int argc, char** argv) {
   std::vector<int> threads{1, 2};
   long steps = 20000;
   bool augmented = false;
+  std::vector<int> pin;
   app.add_option("--particles,-M", particles, "M, particles kept per step (default 128)")
       ->check(CLI::Range(1, 1 << 20));
   app.add_option("--threads", threads, "Thread counts, the first the reference (default 1,2)")
@@ -157,16 +187,22 @@ int main(int argc, char** argv) {
   app.add_option("--steps", steps, "Timed steps per thread count (default 20000)")
       ->check(CLI::Range(1L, 1L << 40));
   app.add_flag("--augmented", augmented, "Augmented-noise UKF bank (Table III) instead of the additive one");
+  app.add_option("--pin", pin, "CPU of the calling thread and CPU of the workers, e.g. 0,1 (Linux)")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(CLI::Range(0, 1023));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == static_cast<int>(CLI::ExitCodes::Success) ? 0 : 2;
   }
-  std::printf("rRBPF-%d, %s UKF bank, H2 model\n", particles, augmented ? "augmented" : "additive");
+  std::printf("rRBPF-%d, %s UKF bank, H2 model", particles, augmented ? "augmented" : "additive");
+  if (!pin.empty()) std::printf(", thread 0 on CPU %d, workers on CPU %d", pin[0], pin[1]);
+  std::printf("\n");
   bool ok = true;
   std::vector<Timeline> runs;
   for (const int T : threads) {
-    runs.push_back(run(T, particles, augmented, steps));
+    runs.push_back(run(T, particles, augmented, steps, pin));
     print(runs.back());
     ok = check_order(runs.back()) && ok;
   }
