@@ -6,7 +6,12 @@
 // per particle per step.
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <vector>
+
+#if defined(__linux__)
+#include <sched.h>
+#endif
 
 #include "h2_micro_model.hpp"
 #include "nlosloc/rbpf/pf.hpp"
@@ -55,6 +60,85 @@ BENCHMARK(BM_Rbpf)
     ->Args({0, 2, 2, 1})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
+
+#if defined(__linux__)
+/// Runs the calling thread on `cpu` only, or (cpu < 0) on every CPU it may use; false on failure.
+bool run_on(int cpu) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (cpu >= 0) {
+    CPU_SET(cpu, &set);
+  } else {
+    for (int c = 0; c < 2; ++c) CPU_SET(c, &set);
+  }
+  return sched_setaffinity(0, sizeof set, &set) == 0;
+}
+
+/// The 2-thread speed-up measured in lockstep (Linux, 2 CPUs): two 1-thread filters, one on CPU 0 and
+/// one on CPU 1, and a 2-thread filter (args: variant, M, noise form as BM_Rbpf, then steps per block)
+/// run the same track, a block of steps each in turn (the order rotating), each block timed. On a shared
+/// 2-vCPU host the time per step drifts by 2x within seconds and each vCPU on its own (an arithmetic loop
+/// pinned to one ran 85-188 ns per iteration, 2026-12-04), so whole benchmarks seconds apart misstate
+/// the ratio, and so does a 1-thread run on whichever vCPU the scheduler picked; blocks a few ms apart on
+/// both vCPUs see the same host. Counters: mean step of each (us) and speed-up = mean 1-thread time (of
+/// the two CPUs) / 2-thread time, over all blocks.
+void BM_RbpfPaired(benchmark::State& state) {
+  using Clock = std::chrono::steady_clock;
+  const H2Model& h = model();
+  rbpf::RbpfOptions opt;
+  opt.variant = state.range(0) == 0 ? rbpf::RbpfVariant::kClassical : rbpf::RbpfVariant::kReordered;
+  opt.num_particles = static_cast<int>(state.range(1));
+  opt.noise_form = state.range(2) == 1 ? NoiseForm::kAugmented : NoiseForm::kAdditive;
+  const auto block = static_cast<std::size_t>(state.range(3));
+  if (!run_on(-1) || !run_on(1) || !run_on(0)) {
+    state.SkipWithError("needs CPUs 0 and 1");
+    return;
+  }
+  opt.threads = 1;
+  rbpf::Rbpf<ConstantVelocityClock2> f0(h.motion, h.st, h.proc, h.q, h.init, opt);
+  rbpf::Rbpf<ConstantVelocityClock2> f1(h.motion, h.st, h.proc, h.q, h.init, opt);
+  run_on(-1);  // the 2-thread filter's worker may run on either CPU
+  opt.threads = 2;
+  rbpf::Rbpf<ConstantVelocityClock2> f2(h.motion, h.st, h.proc, h.q, h.init, opt);
+  rbpf::Rbpf<ConstantVelocityClock2>* f[3] = {&f0, &f1, &f2};
+  const int cpu[3] = {0, 1, -1};
+  constexpr std::size_t kWarm = 50;  // past the first (single-particle) steps, as BM_Rbpf
+  std::size_t k = h.y.size();
+  double sum[3] = {0.0, 0.0, 0.0};
+  long steps = 0, round = 0;
+  for (auto _ : state) {
+    if (k + block > h.y.size()) {  // (re)start the track, untimed by the counters
+      for (int j = 0; j < 3; ++j) {
+        run_on(cpu[j]);
+        f[j]->reset(h.init);
+        for (k = 0; k < kWarm; ++k) f[j]->step(h.y[k], h.o[k]);
+      }
+    }
+    for (int turn = 0; turn < 3; ++turn) {
+      const int j = static_cast<int>((round + turn) % 3);
+      run_on(cpu[j]);
+      const auto t0 = Clock::now();
+      for (std::size_t i = k; i < k + block; ++i) benchmark::DoNotOptimize(f[j]->step(h.y[i], h.o[i]));
+      sum[j] += std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+    }
+    ++round;
+    k += block;
+    steps += static_cast<long>(block);
+  }
+  run_on(-1);
+  const double n = static_cast<double>(steps);
+  state.counters["t1_cpu0_us"] = sum[0] / n;
+  state.counters["t1_cpu1_us"] = sum[1] / n;
+  state.counters["t2_us"] = sum[2] / n;
+  state.counters["speedup"] = 0.5 * (sum[0] + sum[1]) / sum[2];
+}
+BENCHMARK(BM_RbpfPaired)
+    ->ArgNames({"reordered", "M", "augmented", "block"})
+    ->Args({1, 128, 0, 64})
+    ->Args({1, 128, 1, 16})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+#endif
 
 /// Hand-off cost of the pool: an empty parallel_for over `threads` (the fixed cost of one RBPF/PF region
 /// per step) and one SpinBarrier round inside a region (the cost of each phase boundary in the reordered

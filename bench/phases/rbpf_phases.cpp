@@ -122,8 +122,8 @@ double duration(const Timeline& tl, std::size_t t, std::size_t p) {
 double bank_time(const Timeline& tl) {
   double worst = 0.0;
   for (std::size_t t = 0; t < tl.end.size(); ++t)
-    if (tl.end[t][pp::kMoments] >= 0.0 && tl.end[t][pp::kWaitBank] >= 0.0)
-      worst = std::max(worst, tl.end[t][pp::kMoments] - tl.end[t][pp::kWaitBank]);
+    if (tl.end[t][pp::kBank] >= 0.0 && tl.end[t][pp::kWaitBank] >= 0.0)
+      worst = std::max(worst, tl.end[t][pp::kBank] - tl.end[t][pp::kWaitBank]);
   return worst;
 }
 

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <functional>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <set>
 #include <thread>
@@ -770,6 +771,55 @@ TEST_CASE("RBPF on an H2-like track: 1 and 2 threads agree, estimate tracks", "[
   CHECK_THROWS_AS(
       Rbpf<ConstantVelocityClock2>(h.motion, h.st, h.proc, h.q, h.g, RbpfOptions{RbpfVariant::kReordered, 0}),
       std::invalid_argument);
+}
+
+TEST_CASE("RBPF: the same result bit for bit on 1, 2 and 3 threads", "[rbpf]") {
+  // The UKF bank's chunks, and the moment sums of eqs. (27)-(28) taken per chunk, depend on the kept
+  // children only (Rbpf::bank_split): no output may depend on the threads or on which thread claimed which
+  // chunk. M = 256 gives the bank more chunks than M = 128 (both sides' caps of bank_split); the augmented
+  // noise form cuts them elsewhere (a parent's preparation costs less).
+  const H2Like h;
+  std::vector<VecX> y, o;
+  std::vector<Vec<6>> truth;
+  h.simulate(120, 11, y, o, truth);
+  struct Case {
+    RbpfVariant variant;
+    int M;
+    NoiseForm noise;
+  };
+  for (const Case c : {Case{RbpfVariant::kReordered, 128, NoiseForm::kAdditive},
+                       Case{RbpfVariant::kReordered, 256, NoiseForm::kAugmented},
+                       Case{RbpfVariant::kClassical, 2, NoiseForm::kAdditive}}) {
+    CAPTURE(c.M, static_cast<int>(c.noise));
+    RbpfOptions opt;
+    opt.variant = c.variant;
+    opt.num_particles = c.M;
+    opt.noise_form = c.noise;
+    std::vector<std::unique_ptr<Rbpf<ConstantVelocityClock2>>> f;
+    for (const int threads : {1, 2, 3}) {
+      opt.threads = threads;
+      f.push_back(std::make_unique<Rbpf<ConstantVelocityClock2>>(h.motion, h.st, h.proc, h.q, h.g, opt));
+    }
+    long differing = 0, compared = 0;
+    for (std::size_t k = 0; k < y.size(); ++k) {
+      for (auto& g : f) g->step(y[k], o[k]);
+      for (std::size_t j = 1; j < f.size(); ++j) {
+        const auto& a = *f[0];
+        const auto& b = *f[j];
+        bool same = a.estimate() == b.estimate() && a.covariance() == b.covariance() &&
+                    a.situation_probabilities() == b.situation_probabilities() &&
+                    a.num_particles() == b.num_particles();
+        for (int i = 0; same && i < a.num_particles(); ++i)
+          same = a.log_weight(i) == b.log_weight(i) && a.particle_mean(i) == b.particle_mean(i) &&
+                 a.particle_cov(i) == b.particle_cov(i) && a.particle_situation(i) == b.particle_situation(i);
+        differing += same ? 0 : 1;
+        ++compared;
+      }
+    }
+    CHECK(compared == 2 * static_cast<long>(y.size()));
+    CHECK(differing == 0);
+    CHECK(f[0]->num_particles() == c.M);
+  }
 }
 
 TEST_CASE("reordered RBPF: a step that throws leaves the filter as it was", "[rbpf]") {

@@ -191,7 +191,10 @@ class Rbpf {
       threads_.work[t] = std::move(w);
     });
     thread_fail_.assign(static_cast<std::size_t>(threads_.pool->size()), 0);
-    split_.assign(static_cast<std::size_t>(threads_.pool->size()) + 1, 0);
+    chunk_.assign(static_cast<std::size_t>(kMaxChunks) + 1, 0);
+    back_cut_.assign(static_cast<std::size_t>(kSideChunks), 0);
+    csum_.resize(static_cast<std::size_t>(kMaxChunks));
+    for (auto& c : csum_) c.mprob.setZero(B_, nz_);
     thread_status_.assign(static_cast<std::size_t>(threads_.pool->size()), CholeskyStatus::kOk);
     Lq_.resize(B_, nz_);
     crec_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(threads_.pool->size()));
@@ -344,11 +347,20 @@ class Rbpf {
     MergeWorkspace mws;
     int merged = 0;           // children absorbed by this thread's merge
     BestFirstWorkspace best;  // bounded enumeration (reserved at construction when it is used)
-    // reordered summary of this thread's updated particles (accumulate_moments)
+    MatX mprob;               // accumulate_moments: situation weights of the chunk being summed
+  };
+
+  /// Weighted sums of one bank chunk's updated particles relative to its largest log weight mmax
+  /// (accumulate_moments): m0 = sum of w, m1 = sum of w (x - c), m2 = sum of w (P + (x - c)(x - c)^T),
+  /// mprob = sum of w per anchor and condition. A line of its own: the threads write chunks side by side.
+  struct alignas(64) ChunkMoments {
     double mmax = 0.0, m0 = 0.0;
     State m1;
     Cov m2;
     MatX mprob;
+  };
+  struct alignas(64) ChunkCounter {  // bank chunks claimed, and of them from the back (pointer: movable)
+    std::atomic<int> taken{0}, back{0};
   };
 
   /// The pool and each pool thread's UKF kernel and scratch (threads x entries). Each thread allocates
@@ -575,12 +587,9 @@ class Rbpf {
               th, t, [&](int i) { return kept_child(i); },
               [&](int i) -> State& { return nmean_[static_cast<std::size_t>(i)]; },
               [&](int i) -> Cov& { return ncov_[static_cast<std::size_t>(i)]; }, nlogw_.data(),
-              [&](int b, int e, ThreadWork& tw) {
-                pp::mark(th, pp::kBank);
-                accumulate_moments(b, e, tw);
-                pp::mark(th, pp::kMoments);
-              });
+              [&](int c, int b, int e, ThreadWork& tw) { accumulate_moments(c, b, e, tw); });
         });
+      pp::mark(th, pp::kBank);
       if (err) std::rethrow_exception(err);
     });
     phase_profile::mark(0, phase_profile::kJoin);
@@ -606,7 +615,7 @@ class Rbpf {
     order_by_index(crec_);
     const int ns = static_cast<int>(crec_.size());
     info.ukf_runs = ns;
-    // The bank also accumulates, per thread, the moments of eq. (27)-(28) around c = F x_hat_{t-1}
+    // The bank also accumulates, per chunk, the moments of eq. (27)-(28) around c = F x_hat_{t-1}
     // (close to the new estimate, so the raw second moment loses no precision), the situation
     // probabilities and the next step's predicted means: no serial pass over the particles after it.
     centre_.noalias() = motion_.F() * est_;
@@ -964,11 +973,12 @@ class Rbpf {
     }
     xpred_ready_ = false;
     const int ns = info.ukf_runs;
-    // eq. (33): w_t = w_t|t-1 p(y_t | s_1:t, y_1:t-1), normalised (log-sum-exp over the threads' sums)
+    // eq. (33): w_t = w_t|t-1 p(y_t | s_1:t, y_1:t-1), normalised (log-sum-exp over the chunks' sums, in
+    // chunk order: the result does not depend on which thread ran which chunk)
     double z = -kInf;
-    for (int th = 0; th < bank_threads_; ++th)
-      if (const auto& w = threads_.work[static_cast<std::size_t>(th)]; w->m0 > 0.0)
-        z = log_add(z, w->mmax + std::log(w->m0));
+    for (int c = 0; c < nchunks_; ++c)
+      if (const ChunkMoments& m = csum_[static_cast<std::size_t>(c)]; m.m0 > 0.0)
+        z = log_add(z, m.mmax + std::log(m.m0));
     if (!std::isfinite(z))
       nlosloc::detail::throw_numerical_error("Rbpf.step: every UKF update failed or had zero likelihood");
     for (int i = 0; i < ns; ++i) nlogw_[static_cast<std::size_t>(i)] -= z;
@@ -976,13 +986,13 @@ class Rbpf {
     State d = State::Zero();
     Cov m2 = Cov::Zero();
     prob_.setZero();
-    for (int th = 0; th < bank_threads_; ++th) {
-      const auto& w = threads_.work[static_cast<std::size_t>(th)];
-      if (!(w->m0 > 0.0)) continue;
-      const double f = std::exp(w->mmax - z);
-      d += f * w->m1;
-      m2 += f * w->m2;
-      prob_ += f * w->mprob;
+    for (int c = 0; c < nchunks_; ++c) {
+      const ChunkMoments& m = csum_[static_cast<std::size_t>(c)];
+      if (!(m.m0 > 0.0)) continue;
+      const double f = std::exp(m.mmax - z);
+      d += f * m.m1;
+      m2 += f * m.m2;
+      prob_ += f * m.mprob;
     }
     est_ = centre_ + d;                 // eq. (28)
     est_cov_ = m2 - d * d.transpose();  // eq. (27), moment matched
@@ -995,32 +1005,34 @@ class Rbpf {
     xpred_ready_ = true;
   }
 
-  /// Thread part of the reordered summary over updated particles [b, e): keys, next predicted means, and
-  /// weighted sums relative to the thread's largest log weight mmax (m0 = sum of weights, m1 = sum of
-  /// w (x - c), m2 = sum of w (P + (x - c)(x - c)^T), mprob = sum of w per anchor and condition).
-  void accumulate_moments(int b, int e, ThreadWork& w) {
-    w.mmax = -kInf;
-    w.m0 = 0.0;
-    w.m1.setZero();
-    w.m2.setZero();
+  /// Reordered summary of bank chunk c, updated particles [b, e): keys, next predicted means, and the
+  /// chunk's weighted sums (ChunkMoments). The situation weights are summed in the thread's scratch and
+  /// stored once (csum_ entries' matrices lie side by side on the heap).
+  void accumulate_moments(int c, int b, int e, ThreadWork& w) {
+    ChunkMoments& m = csum_[static_cast<std::size_t>(c)];
+    m.mmax = -kInf;
+    m.m0 = 0.0;
+    m.m1.setZero();
+    m.m2.setZero();
     w.mprob.setZero();
     for (int i = b; i < e; ++i) {
       const auto u = static_cast<std::size_t>(i);
       nkey_[u] = sel_key_[u];
       xpred_[u].noalias() = motion_.F() * nmean_[u];
-      w.mmax = std::max(w.mmax, nlogw_[u]);
+      m.mmax = std::max(m.mmax, nlogw_[u]);
     }
-    if (!(w.mmax > -kInf)) return;
-    for (int i = b; i < e; ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      const double wi = std::exp(nlogw_[u] - w.mmax);
-      if (wi == 0.0) continue;
-      const State dx = nmean_[u] - centre_;
-      w.m0 += wi;
-      w.m1 += wi * dx;
-      w.m2 += wi * (ncov_[u] + dx * dx.transpose());
-      add_situation_weight(nkey_[u], wi, w.mprob);
-    }
+    if (m.mmax > -kInf)
+      for (int i = b; i < e; ++i) {
+        const auto u = static_cast<std::size_t>(i);
+        const double wi = std::exp(nlogw_[u] - m.mmax);
+        if (wi == 0.0) continue;
+        const State dx = nmean_[u] - centre_;
+        m.m0 += wi;
+        m.m1 += wi * dx;
+        m.m2 += wi * (ncov_[u] + dx * dx.transpose());
+        add_situation_weight(nkey_[u], wi, w.mprob);
+      }
+    m.mprob = w.mprob;
   }
 
   void step_classical(long k, double t, RbpfStepInfo& info) {
@@ -1036,7 +1048,7 @@ class Rbpf {
         },
         [&](int i) -> State& { return off_mean_[static_cast<std::size_t>(i)]; },
         [&](int i) -> Cov& { return off_cov_[static_cast<std::size_t>(i)]; }, off_logw_.data(), info,
-        [](int, int, ThreadWork&) {});
+        [](int, int, int, ThreadWork&) {});
     Eigen::Map<VecX> lw(off_logw_.data(), n);
     const double z = log_sum_exp(lw);
     if (!std::isfinite(z))
@@ -1086,7 +1098,7 @@ class Rbpf {
   /// Splits items [0, n) into T contiguous shares of about equal total cost(i) (cost(i) > 0, called twice
   /// per item): split[0] = 0, split[T] = n, and each inner boundary before or after the item that crosses
   /// t/T of the total, whichever is nearer (always after gave the first share half an item more on
-  /// average: 1.5 us of an augmented update). Used for the UKF bank and the neighbour sweep.
+  /// average: 1.5 us of an augmented update, when the UKF bank was split so). Used for the neighbour sweep.
   template <class Cost>
   static void split_by_cost(int n, int T, Cost cost, int* split) {
     double total = 0.0;
@@ -1104,9 +1116,8 @@ class Rbpf {
   }
 
   /// Runs the UKF of `n` children (child(i) -> BankChild, in parent order) on the pool and writes prior +
-  /// log-likelihood to logw[i]; failures get weight zero. The children are split over the threads by cost
-  /// (prepare_cost() child updates per parent's sigma-point preparation), and `after(b, e, work)` runs on
-  /// each thread's range in the same parallel region.
+  /// log-likelihood to logw[i]; failures get weight zero. The threads claim the bank's chunks (bank_split)
+  /// in turn, and `after(c, b, e, work)` runs on each chunk c = children [b, e) right after its updates.
   template <class Child, class MeanOut, class CovOut, class After>
   void run_bank(int n, double t, Child child, MeanOut mean_out, CovOut cov_out, double* logw,
                 RbpfStepInfo& info, After after) {
@@ -1116,62 +1127,126 @@ class Rbpf {
     bank_collect(info);
   }
 
-  /// run_bank's serial set-up: splits the n children over T threads by cost (a parent's sigma-point
-  /// preparation counts as prepare_cost() child updates) into split_, and clears the threads' outcomes.
+  /// Chunks of the bank: each (but the two middle ones) at least 1/kMinChunkShare of the cost, at most
+  /// kSideChunks on each side of the middle.
+  static constexpr int kMinChunkShare = 32, kSideChunks = kMinChunkShare / 2 + 2,
+                       kMaxChunks = 2 * kSideChunks;
+  /// A new chunk takes about 1/kGuide of the cost left between it and the middle (guided scheduling: large
+  /// chunks first, small ones last, so the threads end within a small chunk of each other).
+  static constexpr double kGuide = 3.0;
+
+  /// run_bank's serial set-up: cuts the n children into chunks (chunk_, nchunks_) that the threads claim
+  /// one at a time, and clears the threads' outcomes. Thread 0 claims from the first chunk on, the others
+  /// from the last one back, so the chunks shrink towards the middle of the cost, where the threads meet.
+  /// From the ends, each thread updates about the same particles step after step (the kept children come
+  /// in parent order): their means and covariances stay in its core's cache instead of crossing over.
+  /// Claimed at run time, the chunks follow the cores' speeds: on a shared 2-vCPU host one core often runs
+  /// 20-30% slower than the other for a while (nlosloc-rbpf-phases --pin), and the fixed split by cost
+  /// this replaces then left the faster thread waiting for up to 17 us of the bank. A chunk ends at a
+  /// parent boundary when one comes within half its size (a parent's sigma points are prepared once per
+  /// chunk: prepare_cost() child updates). The chunks depend on the children only, not on the threads:
+  /// with the moments summed per chunk and added in chunk order, a step's result is the same bit for bit
+  /// on any number of threads, whichever thread runs which chunk.
   template <class Child>
   void bank_split(int n, int T, Child child) {
     std::fill(thread_fail_.begin(), thread_fail_.end(), 0);
     std::fill(thread_status_.begin(), thread_status_.end(), CholeskyStatus::kOk);
     bank_threads_ = T;
-    split_by_cost(
-        n, T,
-        [&](int i) { return i == 0 || child(i).parent != child(i - 1).parent ? 1.0 + prepare_cost() : 1.0; },
-        split_.data());
+    next_chunk_->taken.store(0, std::memory_order_relaxed);  // published by the region's hand-off
+    next_chunk_->back.store(0, std::memory_order_relaxed);
+    nchunks_ = 0;
+    if (n <= 0) return;
+    auto cost = [&](int i) {
+      return i == 0 || child(i).parent != child(i - 1).parent ? 1.0 + prepare_cost() : 1.0;
+    };
+    auto parent_change = [&](int i) { return child(i).parent != child(i - 1).parent; };  // between i-1, i
+    double total = 0.0;
+    for (int i = 0; i < n; ++i) total += cost(i);
+    const double smallest = total / kMinChunkShare;
+    int mid = 0;  // [0, mid) holds at most half the cost
+    double before = 0.0;
+    while (mid < n && before + cost(mid) <= 0.5 * total) before += cost(mid++);
+    // Front half, from the first child on.
+    int c = 0;
+    chunk_[0] = 0;
+    double left = before, acc = 0.0;
+    for (int i = 0; i + 1 < mid; ++i) {
+      acc += cost(i);
+      const double target = std::max(left / kGuide, smallest);
+      if (c + 1 < kSideChunks && acc >= target && (parent_change(i + 1) || acc >= 1.5 * target)) {
+        chunk_[static_cast<std::size_t>(++c)] = i + 1;
+        left -= acc;
+        acc = 0.0;
+      }
+    }
+    if (mid > 0) chunk_[static_cast<std::size_t>(++c)] = mid;
+    // Back half, from the last child back; its inner boundaries collected last first.
+    int r = 0;
+    left = total - before;
+    acc = 0.0;
+    for (int i = n - 1; i > mid; --i) {
+      acc += cost(i);
+      const double target = std::max(left / kGuide, smallest);
+      if (r + 1 < kSideChunks && acc >= target && (parent_change(i) || acc >= 1.5 * target)) {
+        back_cut_[static_cast<std::size_t>(r++)] = i;
+        left -= acc;
+        acc = 0.0;
+      }
+    }
+    while (r > 0) chunk_[static_cast<std::size_t>(++c)] = back_cut_[static_cast<std::size_t>(--r)];
+    if (n > mid) chunk_[static_cast<std::size_t>(++c)] = n;
+    nchunks_ = c;
   }
 
-  /// Thread th's part of the bank: children [split_[th], split_[th + 1]), then after(b, e, work).
+  /// Thread th's part of the bank: the chunks it claims, each followed by after(c, b, e, work).
   template <class Child, class MeanOut, class CovOut, class After>
   void bank_part(int th, double t, Child child, MeanOut mean_out, CovOut cov_out, double* logw, After after) {
-    const int b = split_[static_cast<std::size_t>(th)], e = split_[static_cast<std::size_t>(th) + 1];
     auto& ker = *threads_.kernels[static_cast<std::size_t>(th)];
-    VecXi& s = threads_.work[static_cast<std::size_t>(th)]->s;
-    int last = -1;
-    CholeskyStatus pst = CholeskyStatus::kOk;
+    ThreadWork& w = *threads_.work[static_cast<std::size_t>(th)];
     StepResult res;
     // The thread's outcome stays in locals and is stored once: the threads' slots of thread_status_ /
     // thread_fail_ share a cache line, and a store per update would bounce it between the cores.
     CholeskyStatus ts = CholeskyStatus::kOk;
     int fails = 0;
-    for (int i = b; i < e; ++i) {
-      const BankChild c = child(i);
-      const int p = c.parent;
-      if (p != last) {
-        pst = ker.prepare(motion_, meas_, mean_[static_cast<std::size_t>(p)],
-                          cov_[static_cast<std::size_t>(p)], t);
-        last = p;
+    // A claim succeeds while fewer than nchunks_ were taken: thread 0 takes chunks 0, 1, ... and the
+    // others nchunks_ - 1, nchunks_ - 2, ...; the successes number nchunks_, so the two ends never overlap.
+    for (int front = 0; next_chunk_->taken.fetch_add(1, std::memory_order_relaxed) < nchunks_;) {
+      const int c =
+          th == 0 ? front++ : nchunks_ - 1 - next_chunk_->back.fetch_add(1, std::memory_order_relaxed);
+      const int b = chunk_[static_cast<std::size_t>(c)], e = chunk_[static_cast<std::size_t>(c) + 1];
+      int last = -1;
+      CholeskyStatus pst = CholeskyStatus::kOk;
+      for (int i = b; i < e; ++i) {
+        const BankChild ch = child(i);
+        const int p = ch.parent;
+        if (p != last) {
+          pst = ker.prepare(motion_, meas_, mean_[static_cast<std::size_t>(p)],
+                            cov_[static_cast<std::size_t>(p)], t);
+          last = p;
+        }
+        if (pst == CholeskyStatus::kFailed) {
+          logw[i] = -std::numeric_limits<double>::infinity();
+          mean_out(i) = ker.predicted_mean();
+          cov_out(i) = cov_[static_cast<std::size_t>(p)];
+          ++fails;
+          ts = CholeskyStatus::kFailed;
+          continue;
+        }
+        decode_situation(ch.key, nz_, w.s);
+        const bool ok = ker.finish(w.s, y_, mean_out(i), cov_out(i), res);
+        ts = nlosloc::detail::worse(ts, res.status);
+        if (!ok || !std::isfinite(res.log_likelihood)) {
+          logw[i] = -std::numeric_limits<double>::infinity();
+          ++fails;
+          ts = CholeskyStatus::kFailed;
+        } else {
+          logw[i] = ch.prior + res.log_likelihood;  // eq. (25) / (33)
+        }
       }
-      if (pst == CholeskyStatus::kFailed) {
-        logw[i] = -std::numeric_limits<double>::infinity();
-        mean_out(i) = ker.predicted_mean();
-        cov_out(i) = cov_[static_cast<std::size_t>(p)];
-        ++fails;
-        ts = CholeskyStatus::kFailed;
-        continue;
-      }
-      decode_situation(c.key, nz_, s);
-      const bool ok = ker.finish(s, y_, mean_out(i), cov_out(i), res);
-      ts = nlosloc::detail::worse(ts, res.status);
-      if (!ok || !std::isfinite(res.log_likelihood)) {
-        logw[i] = -std::numeric_limits<double>::infinity();
-        ++fails;
-        ts = CholeskyStatus::kFailed;
-      } else {
-        logw[i] = c.prior + res.log_likelihood;  // eq. (25) / (33)
-      }
+      after(c, b, e, w);
     }
     thread_fail_[static_cast<std::size_t>(th)] = fails;
     thread_status_[static_cast<std::size_t>(th)] = ts;
-    after(b, e, *threads_.work[static_cast<std::size_t>(th)]);
   }
 
   void bank_collect(RbpfStepInfo& info) const {
@@ -1261,7 +1336,11 @@ class Rbpf {
   MergeWorkspace mws_;      // classical RBPF's merge
   // per-thread UKF workspaces
   std::vector<int> thread_fail_;
-  std::vector<int> split_;                     // run_bank: first child of each thread (size threads + 1)
+  std::vector<int> chunk_;     // bank_split: first child of each chunk (kMaxChunks + 1)
+  std::vector<int> back_cut_;  // bank_split: the back half's chunk starts, last first
+  int nchunks_ = 0;            // chunks of the last bank
+  std::unique_ptr<ChunkCounter> next_chunk_ = std::make_unique<ChunkCounter>();
+  std::vector<ChunkMoments> csum_;             // each chunk's moments (reordered step)
   State centre_;                               // c of accumulate_moments
   int expand_threads_ = 1, bank_threads_ = 1;  // threads of the last expansion / UKF bank
   bool region_failed_ = false;                 // reordered_region: the selection threw (no bank)
