@@ -24,10 +24,10 @@ inline constexpr bool kEnabled = false;
 enum Phase : int {
   kRegionStart = 0,  ///< the thread entered the step's parallel region (hand-off)
   kSweepSetup,       ///< thread 0: prepare_sweep (predicted means bucketed for the neighbour sweep)
-  kFactors,          ///< factors, best child and known child weights of the thread's parents
-  kSweep,            ///< the thread's share of the neighbour sweep (eq. 29)
+  kFactors,          ///< the thread's chunks of the parents' factors, best and known child weights
+  kSweep,            ///< its chunks of the neighbour sweep (eq. 29)
+  kWaitFactors,      ///< barrier: every factor and sweep chunk done
   kSort,             ///< the thread's parents by decreasing best child
-  kWaitFactors,      ///< barrier: every sweep done
   kNearChildren,     ///< children of parents with a neighbour; first shared bound
   kWaitBound,        ///< barrier: every first bound published
   kEnumeration,      ///< children that can reach the shared cut (enumerate_share)
@@ -47,9 +47,9 @@ enum Phase : int {
 /// Short name of a phase, for tables.
 inline const char* name(Phase p) {
   static constexpr std::array<const char*, kPhaseCount> kNames = {
-      "region start",  "sweep set-up", "factors",     "sweep",        "sort",  "wait (sweeps)",
-      "near children", "wait (bound)", "enumeration", "wait (merge)", "merge", "trim",
-      "wait (select)", "selection",    "wait (bank)", "UKF bank",     "join",  "step end"};
+      "region start",  "sweep set-up", "factors",     "sweep",        "wait (sweeps)", "sort",
+      "near children", "wait (bound)", "enumeration", "wait (merge)", "merge",         "trim",
+      "wait (select)", "selection",    "wait (bank)", "UKF bank",     "join",          "step end"};
   return p >= 0 && p < kPhaseCount ? kNames[static_cast<std::size_t>(p)] : "?";
 }
 

@@ -152,7 +152,7 @@ class Rbpf {
     known_.assign(3 * static_cast<std::size_t>(M), 0.0);
     byx_.reserve(static_cast<std::size_t>(M));
     sxp_.reserve(static_cast<std::size_t>(M));
-    sweep_split_.reserve(static_cast<std::size_t>(options.threads) + 1);
+    sweep_split_.assign(static_cast<std::size_t>(kSweepChunks) + 1, 0);
     cell_.reserve(static_cast<std::size_t>(M) + 1);
     pcell_.assign(static_cast<std::size_t>(M), 0);
     apar_.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
@@ -359,9 +359,6 @@ class Rbpf {
     Cov m2;
     MatX mprob;
   };
-  struct alignas(64) ChunkCounter {  // bank chunks claimed, and of them from the back (pointer: movable)
-    std::atomic<int> taken{0}, back{0};
-  };
 
   /// The pool and each pool thread's UKF kernel and scratch (threads x entries). Each thread allocates
   /// (Rbpf constructor) and frees (here) its own entries: freed by the caller, glibc kept the worker's
@@ -480,18 +477,18 @@ class Rbpf {
 
   /// The reordered step (Table V) in one parallel region, phases split by spin barriers (one hand-off
   /// per step; the calling thread is thread 0):
-  ///  A. each thread computes the factors, best child and three known child weights of a contiguous share
-  ///     of the parents, then sweeps its share of the parent pairs for neighbours (eq. 29 on the predicted
-  ///     means: children keep their parent's kinetic belief, so two children are close exactly when they
-  ///     have the same situation and their parents are close); thread 0 sets the sweep up first, and its
-  ///     share of the pairs is smaller by that cost;
-  ///  B. writes every child of its parents with a neighbour and publishes its first shared bound
+  ///  A. the threads compute the factors, best child and three known child weights of the parents, then
+  ///     sweep the parent pairs for neighbours (eq. 29 on the predicted means: children keep their
+  ///     parent's kinetic belief, so two children are close exactly when they have the same situation and
+  ///     their parents are close), both in chunks claimed at run time; thread 0 sets the sweep up first;
+  ///  B. each thread sorts a contiguous share of the parents (its parents) by their best child, writes
+  ///     every child of its parents with a neighbour and publishes its first shared bound
   ///     (publish_known_bound); then enumerates the children of its other parents that can reach the
   ///     shared cut into its candidate buffer (enumerate_share);
   ///  C. merges (eqs. 29-30) the neighbours' children whose key falls in its key range (children with
   ///     different keys never merge) and keeps the survivors; drops its candidates below the final bound;
   ///  D. thread 0 selects the M heaviest of the threads' candidates and splits the bank (select_kept);
-  ///  E. every thread runs its share of the UKF bank and of the moments of eqs. (27)-(28).
+  ///  E. the threads run the UKF bank and the moments of eqs. (27)-(28) in chunks claimed at run time.
   void reordered_region(long k, double t, RbpfStepInfo& info) {
     const double d_min = info.merge_threshold;
     const auto M = static_cast<int>(opt_.num_particles);
@@ -504,6 +501,8 @@ class Rbpf {
     const bool merge = opt_.merge && count_ > 1;
     region_failed_ = false;
     const unsigned gen = ++region_gen_;
+    claims_->factors.reset();  // published by the region's hand-off
+    claims_->sweep.reset();
     threads_.pool->parallel_for(T, [&](int th, int, int) {
       namespace pp = phase_profile;
       pp::mark(th, pp::kRegionStart);
@@ -522,36 +521,47 @@ class Rbpf {
       w.merged = 0;
       w.crec.clear();
       shared_cut_[static_cast<std::size_t>(th)].q.store(-kInf, std::memory_order_relaxed);  // stale: invalid
-      // A. neighbours (sweep share), factors and bounds of this thread's parents. Thread 0 first sets up
-      // the sweep (a serial pass: before the region, both cores waited for it); the others compute their
-      // factors meanwhile and sweep after.
+      // A. factors, best child and known child weights of every parent, then the neighbour sweep, both in
+      // chunks claimed at run time (EndClaims: the threads end together whatever their cores' speeds).
+      // Thread 0 first sets up the sweep (a serial pass: before the region, both cores waited for it); the
+      // others take factor chunks meanwhile.
       guarded([&] { std::fill(w.near.begin(), w.near.begin() + count_, 0); });
       if (merge && th == 0) {
         sweep_ok_ = false;
         guarded([&] {
-          prepare_sweep(d_min, T);
+          prepare_sweep(d_min);
           sweep_ok_ = true;
         });
         sweep_ready_->publish(gen);  // even after a failure: no one waits forever
         pp::mark(th, pp::kSweepSetup);
       }
       guarded([&] {
-        for (int p = pb; p < pe; ++p) parent_bounds(p, k, w);
+        const int nf = std::min(count_, kFactorChunks);
+        for (int front = 0, c; (c = claims_->factors.claim(th, nf, front)) >= 0;) {
+          const int b = static_cast<int>(static_cast<long long>(count_) * c / nf);
+          const int e = static_cast<int>(static_cast<long long>(count_) * (c + 1) / nf);
+          for (int p = b; p < e; ++p) parent_bounds(p, k, w);
+        }
         pp::mark(th, pp::kFactors);
         if (merge) {
           sweep_ready_->wait(gen);
-          if (sweep_ok_) sweep_near(th, d_min, w);
+          if (sweep_ok_)
+            for (int front = 0, c; (c = claims_->sweep.claim(th, kSweepChunks, front)) >= 0;)
+              sweep_near(c, d_min, w);
           pp::mark(th, pp::kSweep);
         }
-        w.psorted.resize(static_cast<std::size_t>(pe - pb));
-        std::iota(w.psorted.begin(), w.psorted.end(), pb);
-        std::sort(w.psorted.begin(), w.psorted.end(), HeavierFirst{best_.data()});
-        pp::mark(th, pp::kSort);
       });
       // Every thread arrives at every barrier, even after an exception (no deadlock); the one before the
       // merge is skipped by all threads alike when no parent has a neighbour (they see the same flags).
       barrier_->arrive_and_wait(T);
       pp::mark(th, pp::kWaitFactors);
+      // This thread's parents by decreasing best child (their factors may come from another thread).
+      guarded([&] {
+        w.psorted.resize(static_cast<std::size_t>(pe - pb));
+        std::iota(w.psorted.begin(), w.psorted.end(), pb);
+        std::sort(w.psorted.begin(), w.psorted.end(), HeavierFirst{best_.data()});
+      });
+      pp::mark(th, pp::kSort);
       // B. children of the parents with a neighbour; first shared bound; enumeration of the others
       guarded([&] {
         for (int p = pb; p < pe; ++p)
@@ -799,16 +809,16 @@ class Rbpf {
     publish();  // final: the selection filters with it
   }
 
-  /// Set-up time per parent in pair tests of the sweep: 1.7 us for 128 parents against 1.7 ns a test
-  /// (H2 model, two threads, instrumented region; the predicted means are read from both cores).
-  static constexpr double kSetupTests = 8.0;
+  /// Chunks of the factors and of the neighbour sweep (reordered region, phase A), claimed at run time:
+  /// about 8 parents' factors (0.5 us each on H2 at M = 128) and 1/8 of the pair tests each.
+  static constexpr int kFactorChunks = 16, kSweepChunks = 8;
 
   /// Set-up of the neighbour sweep (thread 0, before it sweeps): the predicted means F x_p (unless the last
   /// UKF bank left them), the parents bucketed by their first state component into cells of width w >= d_min
   /// (a counting sort, linear: a comparison sort of the parents cost more than the whole sweep), and a fresh
   /// stamp for adj_ (no clearing per step). Two parents within d_min lie in the same or adjacent cells, since
   /// |dx_0| <= ||dx|| < d_min <= w.
-  void prepare_sweep(double d_min, int T) {
+  void prepare_sweep(double d_min) {
     if (!xpred_ready_)
       for (int p = 0; p < count_; ++p)
         xpred_[static_cast<std::size_t>(p)].noalias() = motion_.F() * mean_[static_cast<std::size_t>(p)];
@@ -841,16 +851,13 @@ class Rbpf {
     // instead of at random from the cores whose bank wrote them.
     sxp_.resize(static_cast<std::size_t>(count_));
     for (std::size_t i = 0; i < byx_.size(); ++i) sxp_[i] = xpred_[static_cast<std::size_t>(byx_[i].second)];
-    // Shares of the sweep rows with about equal numbers of pair tests: row i tests the rows after it to the
+    // Chunks of the sweep rows with about equal numbers of pair tests: row i tests the rows after it to the
     // end of the next cell (cell_[c] is now the end of cell c), +2 for its own visit and its last test.
-    // Thread 0 (first rows) also ran this set-up: kSetupTests pair tests per parent.
-    sweep_split_.resize(static_cast<std::size_t>(T) + 1);
     split_by_cost(
-        count_, T,
+        count_, kSweepChunks,
         [&](int i) {
           const int c = std::min(byx_[static_cast<std::size_t>(i)].first + 1, ncell - 1);
-          return static_cast<double>(cell_[static_cast<std::size_t>(c)] - i + 1) +
-                 (i == 0 ? kSetupTests * count_ : 0.0);
+          return static_cast<double>(cell_[static_cast<std::size_t>(c)] - i + 1);
         },
         sweep_split_.data());
     if (++stamp_ == 0) {  // wrapped: entries of 65536 steps ago would read as this step's
@@ -902,14 +909,14 @@ class Rbpf {
     for (const auto& r : v) selbits_[static_cast<std::size_t>(r.idx) >> 6] = 0;
   }
 
-  /// Thread th's share of the sweep over byx_ (pairs in the same or adjacent cells only): rows
-  /// [sweep_split_[th], sweep_split_[th + 1]), about 1/T of the pair tests. Marks w.near of both parents and
-  /// adj_ = stamp_ for each pair within d_min (eq. 29).
-  void sweep_near(int th, double d_min, ThreadWork& w) {
+  /// Chunk c of the sweep over byx_ (pairs in the same or adjacent cells only): rows
+  /// [sweep_split_[c], sweep_split_[c + 1]), about 1/kSweepChunks of the pair tests. Marks w.near of both
+  /// parents and adj_ = stamp_ for each pair within d_min (eq. 29).
+  void sweep_near(int c, double d_min, ThreadWork& w) {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
     const double d2 = d_min * d_min;
-    const auto i0 = static_cast<std::size_t>(sweep_split_[static_cast<std::size_t>(th)]);
-    const auto i1 = static_cast<std::size_t>(sweep_split_[static_cast<std::size_t>(th) + 1]);
+    const auto i0 = static_cast<std::size_t>(sweep_split_[static_cast<std::size_t>(c)]);
+    const auto i1 = static_cast<std::size_t>(sweep_split_[static_cast<std::size_t>(c) + 1]);
     const std::size_t np = byx_.size();
     for (std::size_t i = i0; i < i1; ++i) {
       const auto a = static_cast<std::size_t>(byx_[i].second);
@@ -1152,8 +1159,7 @@ class Rbpf {
     std::fill(thread_fail_.begin(), thread_fail_.end(), 0);
     std::fill(thread_status_.begin(), thread_status_.end(), CholeskyStatus::kOk);
     bank_threads_ = T;
-    next_chunk_->taken.store(0, std::memory_order_relaxed);  // published by the region's hand-off
-    next_chunk_->back.store(0, std::memory_order_relaxed);
+    claims_->bank.reset();  // published by the region's hand-off or barrier
     nchunks_ = 0;
     if (n <= 0) return;
     auto cost = [&](int i) {
@@ -1208,11 +1214,7 @@ class Rbpf {
     // thread_fail_ share a cache line, and a store per update would bounce it between the cores.
     CholeskyStatus ts = CholeskyStatus::kOk;
     int fails = 0;
-    // A claim succeeds while fewer than nchunks_ were taken: thread 0 takes chunks 0, 1, ... and the
-    // others nchunks_ - 1, nchunks_ - 2, ...; the successes number nchunks_, so the two ends never overlap.
-    for (int front = 0; next_chunk_->taken.fetch_add(1, std::memory_order_relaxed) < nchunks_;) {
-      const int c =
-          th == 0 ? front++ : nchunks_ - 1 - next_chunk_->back.fetch_add(1, std::memory_order_relaxed);
+    for (int front = 0, c; (c = claims_->bank.claim(th, nchunks_, front)) >= 0;) {
       const int b = chunk_[static_cast<std::size_t>(c)], e = chunk_[static_cast<std::size_t>(c) + 1];
       int last = -1;
       CholeskyStatus pst = CholeskyStatus::kOk;
@@ -1317,7 +1319,7 @@ class Rbpf {
   std::uint16_t stamp_ = 0;
   std::vector<std::pair<int, int>> byx_;  // (cell, p) by cell: the sweep order (prepare_sweep)
   std::vector<State> sxp_;                // xpred_ in byx_ order
-  std::vector<int> sweep_split_;          // thread t sweeps rows [split[t], split[t + 1]) of byx_
+  std::vector<int> sweep_split_;          // sweep chunk c: rows [split[c], split[c + 1]) of byx_
   std::vector<int> cell_, pcell_;         // prepare_sweep: cell starts (counting sort), cell of each parent
   std::uint64_t key_count_ = 0;           // N_z^B: the keys merge_share splits over the threads
   std::vector<int> sel_;                  // classical: selected children (indices into off_*)
@@ -1339,7 +1341,10 @@ class Rbpf {
   std::vector<int> chunk_;     // bank_split: first child of each chunk (kMaxChunks + 1)
   std::vector<int> back_cut_;  // bank_split: the back half's chunk starts, last first
   int nchunks_ = 0;            // chunks of the last bank
-  std::unique_ptr<ChunkCounter> next_chunk_ = std::make_unique<ChunkCounter>();
+  struct Claims {  // run-time chunk claims of the reordered region and of the bank (pointer: movable)
+    EndClaims factors, sweep, bank;
+  };
+  std::unique_ptr<Claims> claims_ = std::make_unique<Claims>();
   std::vector<ChunkMoments> csum_;             // each chunk's moments (reordered step)
   State centre_;                               // c of accumulate_moments
   int expand_threads_ = 1, bank_threads_ = 1;  // threads of the last expansion / UKF bank

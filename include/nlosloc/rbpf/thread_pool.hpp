@@ -75,6 +75,29 @@ class SpinFlag {
   alignas(64) std::atomic<unsigned> gen_{0};
 };
 
+/// Chunks [0, n) of a parallel region's loop, claimed one at a time at run time: thread 0 takes them from
+/// the first on, the others from the last back. The threads then follow the cores' speeds (on a shared
+/// host one vCPU may run 20-30% slower than the other for a while), and each keeps to its end step after
+/// step, so the data it wrote last step stays in its core's cache. reset() before the region (its
+/// hand-off or a barrier publishes it); each thread keeps its own `front` counter, 0 at the start.
+class EndClaims {
+ public:
+  void reset() {
+    taken_.store(0, std::memory_order_relaxed);
+    back_.store(0, std::memory_order_relaxed);
+  }
+  /// The next chunk for thread th, or -1 once all n are taken. The claims that succeed number n exactly,
+  /// so the front and the back never hand out the same chunk.
+  int claim(int th, int n, int& front) {
+    if (taken_.fetch_add(1, std::memory_order_relaxed) >= n) return -1;
+    return th == 0 ? front++ : n - 1 - back_.fetch_add(1, std::memory_order_relaxed);
+  }
+
+ private:
+  alignas(64) std::atomic<int> taken_{0};
+  std::atomic<int> back_{0};
+};
+
 /// Persistent thread pool for the UKF bank and the particle filter.
 class ThreadPool {
  public:
