@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
-"""Two-thread speed-up of the RBPF benchmarks, measured in interleaved pairs.
+"""Two-thread speed-up of the RBPF benchmarks, measured in lockstep or in interleaved pairs.
 
-On a shared 2-vCPU machine the time per step of one benchmark drifts by 5-10% over minutes,
-so a 1-thread run and a 2-thread run minutes apart can misstate the ratio by as much. Each round
-runs the 1-thread and the 2-thread benchmark back to back and takes their ratio; the median over
-rounds is the speed-up.
+On a shared 2-vCPU machine the time per step drifts by up to 2x within seconds, and each vCPU on
+its own. The default method (--method lockstep) runs nlosloc-micro's BM_RbpfPaired: 1-thread
+filters pinned to CPU 0 and to CPU 1 and a 2-thread filter step the same track in rotating blocks
+(64 steps additive, 16 augmented), so all three see the same host; its speed-up is the mean
+1-thread time over the 2-thread time. --method pairs runs BM_Rbpf on 1 thread and on 2 back to back
+(each --min-time seconds) and takes their ratio. Either way the median over rounds is the speed-up.
 
     python3 bench/tools/rbpf_speedup.py [--micro build/test/bench/nlosloc-micro] [--rounds 6]
-        [--case reordered:1/M:128/augmented:0 ...] [--min-time 1]
+        [--method lockstep|pairs] [--case reordered:1/M:128/augmented:0 ...] [--min-time 1]
 
 Standard library only. Prints one line per round and a summary per case.
 """
@@ -20,12 +22,12 @@ import subprocess
 import sys
 
 DEFAULT_CASES = ["reordered:1/M:128/augmented:0", "reordered:1/M:128/augmented:1"]
+# BM_RbpfPaired's registered block lengths (bench/micro_rbpf.cpp)
+PAIRED_BLOCK = {"0": 64, "1": 16}
 
 
-def time_per_step_us(micro, case, threads, min_time):
-    """Real time per iteration (us) of BM_Rbpf/<case, threads:T>, from Google Benchmark's JSON."""
-    parts = case.split("/")
-    name = "BM_Rbpf/" + "/".join(parts[:2] + [f"threads:{threads}"] + parts[2:]) + "/real_time"
+def run_micro(micro, name, min_time):
+    """Google Benchmark's JSON entry of the benchmark called `name` (exact)."""
     out = subprocess.run(
         [
             micro,
@@ -40,8 +42,33 @@ def time_per_step_us(micro, case, threads, min_time):
     # No match: Google Benchmark writes nothing to stdout.
     for b in json.loads(out)["benchmarks"] if out.strip() else []:
         if b["name"] == name:
-            return b["real_time"] * {"ns": 1e-3, "us": 1.0, "ms": 1e3}[b["time_unit"]]
+            if b.get("error_occurred"):
+                raise RuntimeError(f"{name}: {b.get('error_message', 'error')}")
+            return b
     raise RuntimeError(f"no result for {name}; is it registered in {micro}?")
+
+
+def lockstep(micro, case, min_time):
+    """(1-thread us, 2-thread us, speed-up) of BM_RbpfPaired for a BM_Rbpf case."""
+    parts = dict(p.split(":") for p in case.split("/"))
+    aug = parts.get("augmented", "0")
+    if aug not in PAIRED_BLOCK:
+        raise ValueError(f"--case {case}: augmented must be 0 or 1")
+    name = (
+        f"BM_RbpfPaired/reordered:{parts['reordered']}/M:{parts['M']}/augmented:{aug}"
+        f"/block:{PAIRED_BLOCK[aug]}/real_time"
+    )
+    b = run_micro(micro, name, min_time)
+    t1 = 0.5 * (b["t1_cpu0_us"] + b["t1_cpu1_us"])
+    return t1, b["t2_us"], b["speedup"]
+
+
+def time_per_step_us(micro, case, threads, min_time):
+    """Real time per iteration (us) of BM_Rbpf/<case, threads:T>, from Google Benchmark's JSON."""
+    parts = case.split("/")
+    name = "BM_Rbpf/" + "/".join(parts[:2] + [f"threads:{threads}"] + parts[2:]) + "/real_time"
+    b = run_micro(micro, name, min_time)
+    return b["real_time"] * {"ns": 1e-3, "us": 1.0, "ms": 1e3}[b["time_unit"]]
 
 
 def main():
@@ -49,23 +76,33 @@ def main():
     ap.add_argument("--micro", default="build/test/bench/nlosloc-micro")
     ap.add_argument("--rounds", type=int, default=6)
     ap.add_argument("--case", action="append", help="BM_Rbpf arguments but threads (repeatable)")
-    ap.add_argument("--min-time", type=float, default=1.0, help="seconds per benchmark run")
+    ap.add_argument(
+        "--min-time", type=float, default=None, help="seconds per benchmark run (1; lockstep 4)"
+    )
+    ap.add_argument("--method", choices=["lockstep", "pairs"], default="lockstep")
     a = ap.parse_args()
     if a.rounds < 1:
         ap.error("--rounds: expected >= 1")
+    min_time = a.min_time if a.min_time is not None else (4.0 if a.method == "lockstep" else 1.0)
+    if not min_time > 0:
+        ap.error("--min-time: expected > 0")
     for case in a.case or DEFAULT_CASES:
         ratios, t1s, t2s = [], [], []
         for r in range(a.rounds):
-            t1 = time_per_step_us(a.micro, case, 1, a.min_time)
-            t2 = time_per_step_us(a.micro, case, 2, a.min_time)
+            if a.method == "lockstep":
+                t1, t2, ratio = lockstep(a.micro, case, min_time)
+            else:
+                t1 = time_per_step_us(a.micro, case, 1, min_time)
+                t2 = time_per_step_us(a.micro, case, 2, min_time)
+                ratio = t1 / t2
             t1s.append(t1)
             t2s.append(t2)
-            ratios.append(t1 / t2)
-            print(f"{case} round {r + 1}: {t1:.1f} / {t2:.1f} us = {t1 / t2:.3f}", flush=True)
+            ratios.append(ratio)
+            print(f"{case} round {r + 1}: {t1:.1f} / {t2:.1f} us = {ratio:.3f}", flush=True)
         med1, med2, medr = (statistics.median(v) for v in (t1s, t2s, ratios))
         print(
             f"{case}: 1 thread {med1:.1f} us, 2 threads {med2:.1f} us, speed-up median {medr:.3f} "
-            f"(min {min(ratios):.3f}, max {max(ratios):.3f}, {a.rounds} paired rounds)"
+            f"(min {min(ratios):.3f}, max {max(ratios):.3f}, {a.rounds} {a.method} rounds)"
         )
     return 0
 

@@ -69,6 +69,20 @@ def test_rbpf_run_and_step(variant, m):
         f.step(Y[-1], Q_obs[-1][:3])
 
 
+def test_rbpf_threads_give_the_same_result_bit_for_bit():
+    # M = 128: the 2-thread filter uses its pool (from 64 parents); the UKF bank's chunks and
+    # partial sums do not depend on the threads, so neither do the outputs, to the last bit.
+    Y, Q_obs, _, _ = track(steps=60, seed=3)
+    out = []
+    for threads in (1, 2):
+        opt = rbpf.RbpfOptions(
+            variant=rbpf.RbpfVariant.Reordered, num_particles=128, threads=threads
+        )
+        out.append(rbpf.Rbpf(MOTION, stack(), SIGHT, QUALITY, X0, P0, opt).run(Y, Q_obs))
+    for key in ("mean", "cov", "situation_probabilities"):
+        np.testing.assert_array_equal(out[0][key], out[1][key], err_msg=key)
+
+
 def test_rbpf_bad_options():
     with pytest.raises(ValueError, match="num_particles"):
         rbpf.Rbpf(MOTION, stack(), SIGHT, QUALITY, X0, P0, rbpf.RbpfOptions(num_particles=0))

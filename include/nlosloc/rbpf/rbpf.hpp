@@ -56,9 +56,8 @@ struct RbpfOptions {
   std::uint64_t max_offspring = 4096;  ///< children per particle; N_z^B above it -> bounded enumeration
   bool merge = true;                   ///< apply the merge of eqs. (29)-(30) before selecting
   double merge_threshold = -1.0;       ///< d_min; negative: eq. (31) from the position variance
-  /// pool threads (created once); phases with < 64 parents or updates run on one. The kept particles and
-  /// situations do not depend on it; the reordered filter's estimate and weights may differ in the last
-  /// bits (per-thread partial sums, about 1e-15 relative).
+  /// pool threads (created once); phases with < 64 parents or updates run on one. No result depends on
+  /// it, bit for bit (the bank's chunks and their partial sums do not depend on the threads).
   int threads = 1;
   SigmaScheme scheme = SigmaScheme::scaled();   ///< sigma points of the per-particle UKF
   NoiseForm noise_form = NoiseForm::kAdditive;  ///< UKF noise: moments (default) or sigma set (Table III)
