@@ -1148,11 +1148,12 @@ class Rbpf {
   /// in parent order): their means and covariances stay in its core's cache instead of crossing over.
   /// Claimed at run time, the chunks follow the cores' speeds: on a shared 2-vCPU host one core often runs
   /// 20-30% slower than the other for a while (nlosloc-rbpf-phases --pin), and the fixed split by cost
-  /// this replaces then left the faster thread waiting for up to 17 us of the bank. A chunk ends at a
-  /// parent boundary when one comes within half its size (a parent's sigma points are prepared once per
-  /// chunk: prepare_cost() child updates). The chunks depend on the children only, not on the threads:
-  /// with the moments summed per chunk and added in chunk order, a step's result is the same bit for bit
-  /// on any number of threads, whichever thread runs which chunk.
+  /// this replaces then left the faster thread waiting at the join: 17-25 us of a 135-195 us step in some
+  /// runs of nlosloc-rbpf-phases on 2026-12-04. A chunk ends at a parent boundary when one comes within
+  /// half its size (a parent's sigma points are prepared once per chunk: prepare_cost() child updates).
+  /// The chunks depend on the children only, not on the threads: with the moments summed per chunk and
+  /// added in chunk order, a step's result is the same bit for bit on any number of threads, whichever
+  /// thread runs which chunk.
   template <class Child>
   void bank_split(int n, int T, Child child) {
     std::fill(thread_fail_.begin(), thread_fail_.end(), 0);
