@@ -9,10 +9,7 @@
 #include <chrono>
 #include <vector>
 
-#if defined(__linux__)
-#include <sched.h>
-#endif
-
+#include "cpu_affinity.hpp"
 #include "h2_micro_model.hpp"
 #include "nlosloc/rbpf/pf.hpp"
 #include "nlosloc/rbpf/rbpf.hpp"
@@ -62,17 +59,8 @@ BENCHMARK(BM_Rbpf)
     ->UseRealTime();
 
 #if defined(__linux__)
-/// Runs the calling thread on `cpu` only, or (cpu < 0) on every CPU it may use; false on failure.
-bool run_on(int cpu) {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  if (cpu >= 0) {
-    CPU_SET(cpu, &set);
-  } else {
-    for (int c = 0; c < 2; ++c) CPU_SET(c, &set);
-  }
-  return sched_setaffinity(0, sizeof set, &set) == 0;
-}
+/// Runs the calling thread on `cpu` only, or (cpu < 0) on CPUs 0 and 1; false on failure.
+bool run_on(int cpu) { return cpu >= 0 ? bench::run_on_cpus({cpu}) : bench::run_on_cpus({0, 1}); }
 
 /// The 2-thread speed-up measured in lockstep (Linux, 2 CPUs): two 1-thread filters, one on CPU 0 and
 /// one on CPU 1, and a 2-thread filter (args: variant, M, noise form as BM_Rbpf, then steps per block)

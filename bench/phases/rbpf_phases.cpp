@@ -22,13 +22,10 @@
 #include <string>
 #include <vector>
 
+#include "../cpu_affinity.hpp"
 #include "../h2_micro_model.hpp"
 #include "nlosloc/rbpf/phase_profile.hpp"
 #include "nlosloc/rbpf/rbpf.hpp"
-
-#if defined(__linux__)
-#include <sched.h>
-#endif
 
 #ifndef NLOSLOC_RBPF_PHASE_PROFILE
 #error "bench/phases/rbpf_phases.cpp needs NLOSLOC_RBPF_PHASE_PROFILE (its CMake target defines it)"
@@ -58,15 +55,8 @@ void add(pp::Totals& sum, const pp::Totals& more) {
 
 /// Restricts the calling thread to `cpu` (threads it creates inherit it); false and a message on failure.
 bool pin_to(int cpu) {
-#if defined(__linux__)
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  CPU_SET(cpu, &set);
-  if (sched_setaffinity(0, sizeof set, &set) == 0) return true;
+  if (bench::run_on_cpus({cpu})) return true;
   std::fprintf(stderr, "error: --pin: cannot run on CPU %d: %s\n", cpu, std::strerror(errno));
-#else
-  std::fprintf(stderr, "error: --pin: CPU affinity is supported on Linux only (CPU %d)\n", cpu);
-#endif
   return false;
 }
 
