@@ -776,8 +776,9 @@ TEST_CASE("RBPF on an H2-like track: 1 and 2 threads agree, estimate tracks", "[
 TEST_CASE("RBPF: the same result bit for bit on 1, 2 and 3 threads", "[rbpf]") {
   // The UKF bank's chunks, and the moment sums of eqs. (27)-(28) taken per chunk, depend on the kept
   // children only (Rbpf::bank_split): no output may depend on the threads or on which thread claimed which
-  // chunk. M = 256 gives the bank more chunks than M = 128 (both sides' caps of bank_split); the augmented
-  // noise form cuts them elsewhere (a parent's preparation costs less).
+  // chunk. M = 256 cuts the bank into other chunks than M = 128 (bank_split's guided sizes, not its
+  // caps: about 7 chunks per side); the augmented noise form cuts them elsewhere (a parent's preparation
+  // costs less).
   const H2Like h;
   std::vector<VecX> y, o;
   std::vector<Vec<6>> truth;

@@ -192,6 +192,7 @@ class Rbpf {
     thread_fail_.assign(static_cast<std::size_t>(threads_.pool->size()), 0);
     chunk_.assign(static_cast<std::size_t>(kMaxChunks) + 1, 0);
     back_cut_.assign(static_cast<std::size_t>(kSideChunks), 0);
+    split_first_.assign(options.variant == RbpfVariant::kReordered ? static_cast<std::size_t>(M) : cap, 0);
     csum_.resize(static_cast<std::size_t>(kMaxChunks));
     for (auto& c : csum_) c.mprob.setZero(B_, nz_);
     thread_status_.assign(static_cast<std::size_t>(threads_.pool->size()), CholeskyStatus::kOk);
@@ -200,13 +201,8 @@ class Rbpf {
     sel_w_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(threads_.pool->size()));
     sel_tmp_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(threads_.pool->size()));
     sel_ties_.reserve(static_cast<std::size_t>(M) * static_cast<std::size_t>(threads_.pool->size()));
-    if ((cap + 63) / 64 <= kBitmapSortPerKept * static_cast<std::size_t>(M)) {
-      selbits_.assign((cap + 63) / 64, 0);
-      selrank_.assign((cap + 63) / 64, 0);
-    }
-    sel_key_.reserve(static_cast<std::size_t>(M));
-    sel_parent_.reserve(static_cast<std::size_t>(M));
-    sel_prior_.reserve(static_cast<std::size_t>(M));
+    sel_order_.reserve(static_cast<std::size_t>(M));
+    pstart_.assign(static_cast<std::size_t>(M) + 1, 0);
     prob_.resize(B_, nz_);
     y_.resize(meas.rows());
     reset(initial, t0);
@@ -634,7 +630,8 @@ class Rbpf {
   /// The i-th kept child (select_kept's order) for the UKF bank.
   BankChild kept_child(int i) const {
     const auto u = static_cast<std::size_t>(i);
-    return BankChild{sel_parent_[u], sel_prior_[u], sel_key_[u]};
+    const ChildRecord& r = sel_order_[u];
+    return BankChild{r.parent, r.logw, r.key};
   }
 
   /// True when parent p has a neighbour within d_min (set by any thread's sweep this step).
@@ -865,47 +862,33 @@ class Rbpf {
     }
   }
 
-  /// Orders the kept records by child index (distinct) and writes sel_parent_, sel_key_ and sel_prior_:
-  /// through a bitmap over [0, M x per) when that is at most kBitmapSortPerKept words per kept child (linear,
-  /// no mispredicted comparisons; a record's rank is the count of set bits before it), else std::sort.
-  static constexpr std::size_t kBitmapSortPerKept = 64;
-  static int popcount(std::uint64_t x) {
-#if defined(__GNUC__) || defined(__clang__)
-    return __builtin_popcountll(x);
-#else
-    int n = 0;
-    for (; x != 0; x &= x - 1) ++n;
-    return n;
-#endif
-  }
+  /// Orders the kept records by child index (distinct; idx = parent x per + j) into sel_order_, which the
+  /// bank reads: a counting pass over the parents (fewer than M + 1), then an insertion sort of each
+  /// parent's kept children (a few) by index. Linear in M whatever M x per (the bitmap ranks it replaces
+  /// fell back to std::sort when M x per was large, and called a library popcount per word without
+  /// -mpopcnt); on the H2 model both take about 1.4 us (nlosloc-rbpf-phases, 2026-12-04).
   void order_by_index(std::vector<ChildRecord>& v) {
     const std::size_t n = v.size();
-    sel_parent_.resize(n);
-    sel_key_.resize(n);
-    sel_prior_.resize(n);
-    auto put = [&](std::size_t pos, const ChildRecord& r) {
-      sel_parent_[pos] = r.parent;
-      sel_key_[pos] = r.key;
-      sel_prior_[pos] = r.logw;
-    };
-    if (selbits_.empty() || selbits_.size() > kBitmapSortPerKept * std::max<std::size_t>(n, 1)) {
-      std::sort(v.begin(), v.end(), [](const ChildRecord& a, const ChildRecord& b) { return a.idx < b.idx; });
-      for (std::size_t i = 0; i < n; ++i) put(i, v[i]);
-      return;
-    }
+    const auto np = static_cast<std::size_t>(count_);
+    sel_order_.resize(n);
+    // pstart_[p + 1] counts parent p's records; as prefix sums, pstart_[p] is where its group begins
+    std::fill(pstart_.begin(), pstart_.begin() + static_cast<std::ptrdiff_t>(np) + 1, 0);
+    for (const auto& r : v) ++pstart_[static_cast<std::size_t>(r.parent) + 1];
+    for (std::size_t p = 0; p < np; ++p) pstart_[p + 1] += pstart_[p];
+    // scatter: pstart_[p] moves to the end of group p, which is where group p + 1 begins
     for (const auto& r : v)
-      selbits_[static_cast<std::size_t>(r.idx) >> 6] |= std::uint64_t{1} << (r.idx & 63);
-    int before = 0;
-    for (std::size_t wd = 0; wd < selbits_.size(); ++wd) {
-      selrank_[wd] = before;
-      before += popcount(selbits_[wd]);
+      sel_order_[static_cast<std::size_t>(pstart_[static_cast<std::size_t>(r.parent)]++)] = r;
+    std::size_t g0 = 0;
+    for (std::size_t p = 0; p < np && g0 < n; ++p) {
+      const auto g1 = static_cast<std::size_t>(pstart_[p]);
+      for (std::size_t i = g0 + 1; i < g1; ++i) {
+        const ChildRecord r = sel_order_[i];
+        std::size_t j = i;
+        for (; j > g0 && sel_order_[j - 1].idx > r.idx; --j) sel_order_[j] = sel_order_[j - 1];
+        sel_order_[j] = r;
+      }
+      g0 = g1;
     }
-    for (const auto& r : v) {
-      const std::size_t wd = static_cast<std::size_t>(r.idx) >> 6;
-      const std::uint64_t below = (std::uint64_t{1} << (r.idx & 63)) - 1;
-      put(static_cast<std::size_t>(selrank_[wd] + popcount(selbits_[wd] & below)), r);
-    }
-    for (const auto& r : v) selbits_[static_cast<std::size_t>(r.idx) >> 6] = 0;
   }
 
   /// Chunk c of the sweep over byx_ (pairs in the same or adjacent cells only): rows
@@ -1023,7 +1006,7 @@ class Rbpf {
     w.mprob.setZero();
     for (int i = b; i < e; ++i) {
       const auto u = static_cast<std::size_t>(i);
-      nkey_[u] = sel_key_[u];
+      nkey_[u] = sel_order_[u].key;
       xpred_[u].noalias() = motion_.F() * nmean_[u];
       m.mmax = std::max(m.mmax, nlogw_[u]);
     }
@@ -1162,12 +1145,20 @@ class Rbpf {
     claims_->bank.reset();  // published by the region's hand-off or barrier
     nchunks_ = 0;
     if (n <= 0) return;
-    auto cost = [&](int i) {
-      return i == 0 || child(i).parent != child(i - 1).parent ? 1.0 + prepare_cost() : 1.0;
-    };
-    auto parent_change = [&](int i) { return child(i).parent != child(i - 1).parent; };  // between i-1, i
+    // One pass over the children marks where each parent's run begins (its sigma points are prepared
+    // there); the passes below read the marks instead of calling child() up to four times per child.
+    const double first_cost = 1.0 + prepare_cost();
+    if (split_first_.size() < static_cast<std::size_t>(n))  // sized at construction: never in a step
+      split_first_.resize(static_cast<std::size_t>(n));
     double total = 0.0;
-    for (int i = 0; i < n; ++i) total += cost(i);
+    for (int i = 0, prev = -1; i < n; ++i) {
+      const int p = child(i).parent;
+      split_first_[static_cast<std::size_t>(i)] = i == 0 || p != prev ? 1 : 0;
+      total += split_first_[static_cast<std::size_t>(i)] != 0 ? first_cost : 1.0;
+      prev = p;
+    }
+    auto cost = [&](int i) { return split_first_[static_cast<std::size_t>(i)] != 0 ? first_cost : 1.0; };
+    auto parent_change = [&](int i) { return split_first_[static_cast<std::size_t>(i)] != 0; };  // i-1, i
     const double smallest = total / kMinChunkShare;
     int mid = 0;  // [0, mid) holds at most half the cost
     double before = 0.0;
@@ -1323,14 +1314,11 @@ class Rbpf {
   std::vector<int> cell_, pcell_;         // prepare_sweep: cell starts (counting sort), cell of each parent
   std::uint64_t key_count_ = 0;           // N_z^B: the keys merge_share splits over the threads
   std::vector<int> sel_;                  // classical: selected children (indices into off_*)
-  std::vector<int> sel_parent_;           // reordered: the kept children's parents, by child index
-  std::vector<std::uint64_t> sel_key_;    // reordered: their keys
-  std::vector<double> sel_prior_;         // reordered: their log weights before the update (eq. 32)
   std::vector<ChildRecord> crec_;         // the threads' kept records
   std::vector<double> sel_w_, sel_tmp_;   // keep_heaviest scratch (select_kept)
   std::vector<ChildRecord> sel_ties_;
-  std::vector<std::uint64_t> selbits_;  // order_by_index: one bit per child index
-  std::vector<int> selrank_;            // order_by_index: set bits before each word
+  std::vector<ChildRecord> sel_order_;  // reordered: the kept children by index (log weight: eq. 32 prior)
+  std::vector<int> pstart_;             // order_by_index: each parent's group (counting sort)
   std::vector<double> best_;            // best child log weight per parent
   std::vector<double> known_;           // three known child weights per parent
   static constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -1338,9 +1326,10 @@ class Rbpf {
   MergeWorkspace mws_;      // classical RBPF's merge
   // per-thread UKF workspaces
   std::vector<int> thread_fail_;
-  std::vector<int> chunk_;     // bank_split: first child of each chunk (kMaxChunks + 1)
-  std::vector<int> back_cut_;  // bank_split: the back half's chunk starts, last first
-  int nchunks_ = 0;            // chunks of the last bank
+  std::vector<int> chunk_;                  // bank_split: first child of each chunk (kMaxChunks + 1)
+  std::vector<int> back_cut_;               // bank_split: the back half's chunk starts, last first
+  std::vector<unsigned char> split_first_;  // bank_split: 1 where a parent's run of children begins
+  int nchunks_ = 0;                         // chunks of the last bank
   struct Claims {  // run-time chunk claims of the reordered region and of the bank (pointer: movable)
     EndClaims factors, sweep, bank;
   };
