@@ -3,10 +3,11 @@
 
 On a shared 2-vCPU machine the time per step drifts by up to 2x within seconds, and each vCPU on
 its own. The default method (--method lockstep) runs nlosloc-micro's BM_RbpfPaired: 1-thread
-filters pinned to CPU 0 and to CPU 1 and a 2-thread filter step the same track in rotating blocks
-(64 steps additive, 16 augmented), so all three see the same host; its speed-up is the mean
-1-thread time over the 2-thread time. --method pairs runs BM_Rbpf on 1 thread and on 2 back to back
-(each --min-time seconds) and takes their ratio. Either way the median over rounds is the speed-up.
+filters pinned to CPU 0 and to CPU 1 and a 2-thread filter (thread 0 on CPU 0, its worker on CPU 1)
+step the same track in rotating blocks (64 steps additive, 16 augmented), so all three see the same
+host; its speed-up is the mean 1-thread time over the 2-thread time. --method pairs runs BM_Rbpf
+on 1 thread and on 2 back to back (each --min-time seconds) and takes their ratio. Either way the
+median over rounds is the speed-up.
 
     python3 bench/tools/rbpf_speedup.py [--micro build/test/bench/nlosloc-micro] [--rounds 6]
         [--method lockstep|pairs] [--case reordered:1/M:128/augmented:0 ...] [--min-time 1]
