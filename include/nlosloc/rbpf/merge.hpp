@@ -179,6 +179,19 @@ void sort_groups(std::size_t N, MergeWorkspace& ws, const Heavier& heavier) {
   }
 }
 
+/// Stable counting sort of items 0..n-1 by bucket(i) in [0, nb): calls place(i, position) once per item,
+/// positions in bucket order (items of a bucket in index order). `ends` (nb + 1 entries) is the histogram;
+/// on return ends[b] is where bucket b ends. Linear in n + nb; used wherever items are grouped by a small
+/// integer (merge keys in a narrow range, the RBPF's sweep cells and kept children's parents).
+template <class Count, class Bucket, class Place>
+void counting_scatter(std::size_t n, std::size_t nb, Count* ends, Bucket bucket, Place place) {
+  std::fill(ends, ends + nb + 1, Count{0});
+  for (std::size_t i = 0; i < n; ++i) ++ends[static_cast<std::size_t>(bucket(i)) + 1];
+  for (std::size_t b = 0; b < nb; ++b) ends[b + 1] += ends[b];
+  for (std::size_t i = 0; i < n; ++i)
+    place(i, static_cast<std::size_t>(ends[static_cast<std::size_t>(bucket(i))]++));
+}
+
 /// ws.order = 0..n-1 grouped by key (ascending), heaviest first within a group, ties by index: the order
 /// the greedy merge visits; ws.sorted_keys[i] = keys[ws.order[i]]. Keys within a narrow range
 /// (MergeWorkspace::count_limit): one stable counting pass. Otherwise small n: one comparison sort; large n
@@ -200,14 +213,13 @@ inline void merge_order(const std::uint64_t* keys, const double* logw, int n, Me
   }
   if (kmax - kmin < MergeWorkspace::count_limit(N)) {
     const auto range = static_cast<std::size_t>(kmax - kmin) + 1;
-    ws.count.assign(range + 1, 0);  // within the capacity reserve() gives
-    for (std::size_t i = 0; i < N; ++i) ++ws.count[static_cast<std::size_t>(keys[i] - kmin) + 1];
-    for (std::size_t c = 1; c <= range; ++c) ws.count[c] += ws.count[c - 1];
-    for (std::size_t i = 0; i < N; ++i) {
-      const auto dst = static_cast<std::size_t>(ws.count[static_cast<std::size_t>(keys[i] - kmin)]++);
-      ws.order[dst] = static_cast<int>(i);
-      ws.sorted_keys[dst] = keys[i];
-    }
+    ws.count.resize(range + 1);  // within the capacity reserve() gives
+    counting_scatter(
+        N, range, ws.count.data(), [&](std::size_t i) { return keys[i] - kmin; },
+        [&](std::size_t i, std::size_t dst) {
+          ws.order[dst] = static_cast<int>(i);
+          ws.sorted_keys[dst] = keys[i];
+        });
     sort_groups(N, ws, heavier);
     return;
   }

@@ -192,6 +192,7 @@ class Rbpf {
     thread_fail_.assign(static_cast<std::size_t>(threads_.pool->size()), 0);
     chunk_.assign(static_cast<std::size_t>(kMaxChunks) + 1, 0);
     back_cut_.assign(static_cast<std::size_t>(kSideChunks), 0);
+    // bank_split's marks: at most M kept children (reordered) or every child (classical)
     split_first_.assign(options.variant == RbpfVariant::kReordered ? static_cast<std::size_t>(M) : cap, 0);
     csum_.resize(static_cast<std::size_t>(kMaxChunks));
     for (auto& c : csum_) c.mprob.setZero(B_, nz_);
@@ -828,21 +829,20 @@ class Rbpf {
     const double width = std::max(d_min, (hi - lo) / count_);
     const int ncell =
         width > 0.0 ? static_cast<int>(std::min<double>(count_, std::floor((hi - lo) / width) + 1.0)) : 1;
-    cell_.assign(static_cast<std::size_t>(ncell) + 1, 0);
     for (int p = 0; p < count_; ++p) {
       const double x = xpred_[static_cast<std::size_t>(p)][0];
       const double r = width > 0.0 ? (x - lo) / width : 0.0;
-      const int c = r > 0.0 ? static_cast<int>(std::min<double>(r, ncell - 1)) : 0;  // NaN: cell 0
-      pcell_[static_cast<std::size_t>(p)] = c;
-      ++cell_[static_cast<std::size_t>(c) + 1];
+      pcell_[static_cast<std::size_t>(p)] =
+          r > 0.0 ? static_cast<int>(std::min<double>(r, ncell - 1)) : 0;  // NaN: cell 0
     }
-    for (int c = 0; c < ncell; ++c)
-      cell_[static_cast<std::size_t>(c) + 1] += cell_[static_cast<std::size_t>(c)];
+    cell_.resize(static_cast<std::size_t>(ncell) + 1);
     byx_.resize(static_cast<std::size_t>(count_));
-    for (int p = 0; p < count_; ++p) {
-      const int c = pcell_[static_cast<std::size_t>(p)];
-      byx_[static_cast<std::size_t>(cell_[static_cast<std::size_t>(c)]++)] = {c, p};
-    }
+    detail::counting_scatter(
+        static_cast<std::size_t>(count_), static_cast<std::size_t>(ncell), cell_.data(),
+        [&](std::size_t p) { return pcell_[p]; },
+        [&](std::size_t p, std::size_t pos) {
+          byx_[pos] = {pcell_[p], static_cast<int>(p)};
+        });
     // The predicted means in sweep order: the threads then read them in sequence, once from this core,
     // instead of at random from the cores whose bank wrote them.
     sxp_.resize(static_cast<std::size_t>(count_));
@@ -867,17 +867,14 @@ class Rbpf {
   /// parent's kept children (a few) by index. Linear in M whatever M x per (the bitmap ranks it replaces
   /// fell back to std::sort when M x per was large, and called a library popcount per word without
   /// -mpopcnt); on the H2 model both take about 1.4 us (nlosloc-rbpf-phases, 2026-12-04).
-  void order_by_index(std::vector<ChildRecord>& v) {
+  void order_by_index(const std::vector<ChildRecord>& v) {
     const std::size_t n = v.size();
     const auto np = static_cast<std::size_t>(count_);
     sel_order_.resize(n);
-    // pstart_[p + 1] counts parent p's records; as prefix sums, pstart_[p] is where its group begins
-    std::fill(pstart_.begin(), pstart_.begin() + static_cast<std::ptrdiff_t>(np) + 1, 0);
-    for (const auto& r : v) ++pstart_[static_cast<std::size_t>(r.parent) + 1];
-    for (std::size_t p = 0; p < np; ++p) pstart_[p + 1] += pstart_[p];
-    // scatter: pstart_[p] moves to the end of group p, which is where group p + 1 begins
-    for (const auto& r : v)
-      sel_order_[static_cast<std::size_t>(pstart_[static_cast<std::size_t>(r.parent)]++)] = r;
+    // grouped by parent; pstart_[p] is then where group p ends
+    detail::counting_scatter(
+        n, np, pstart_.data(), [&](std::size_t i) { return v[i].parent; },
+        [&](std::size_t i, std::size_t pos) { sel_order_[pos] = v[i]; });
     std::size_t g0 = 0;
     for (std::size_t p = 0; p < np && g0 < n; ++p) {
       const auto g1 = static_cast<std::size_t>(pstart_[p]);
@@ -1148,8 +1145,6 @@ class Rbpf {
     // One pass over the children marks where each parent's run begins (its sigma points are prepared
     // there); the passes below read the marks instead of calling child() up to four times per child.
     const double first_cost = 1.0 + prepare_cost();
-    if (split_first_.size() < static_cast<std::size_t>(n))  // sized at construction: never in a step
-      split_first_.resize(static_cast<std::size_t>(n));
     double total = 0.0;
     for (int i = 0, prev = -1; i < n; ++i) {
       const int p = child(i).parent;
