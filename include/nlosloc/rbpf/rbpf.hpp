@@ -227,6 +227,7 @@ class Rbpf {
     for (int b = 0; b < B_; ++b) prob_.row(b) = sight_.model(b).initial().transpose();
     pos_var_ = position_variance(initial.cov);
     xpred_ready_ = false;
+    parent_split_ = 0;
   }
 
   /// One iteration with measurements y (size rows; NaN = missing) and quality statistics o (size B;
@@ -473,11 +474,12 @@ class Rbpf {
 
   /// The reordered step (Table V) in one parallel region, phases split by spin barriers (one hand-off
   /// per step; the calling thread is thread 0):
-  ///  A. the threads compute the factors, best child and three known child weights of the parents, then
-  ///     sweep the parent pairs for neighbours (eq. 29 on the predicted means: children keep their
-  ///     parent's kinetic belief, so two children are close exactly when they have the same situation and
-  ///     their parents are close), both in chunks claimed at run time; thread 0 sets the sweep up first;
-  ///  B. each thread sorts a contiguous share of the parents (its parents) by their best child, writes
+  ///  A. the threads compute the factors, best child and three known child weights of the parents (on two
+  ///     threads each of its own parents, own_parents; on more in chunks claimed at run time), then sweep
+  ///     the parent pairs for neighbours (eq. 29 on the predicted means: children keep their parent's
+  ///     kinetic belief, so two children are close exactly when they have the same situation and their
+  ///     parents are close) in chunks claimed at run time; thread 0 sets the sweep up first;
+  ///  B. each thread sorts a contiguous share of the parents (its own parents) by their best child, writes
   ///     every child of its parents with a neighbour and publishes its first shared bound
   ///     (publish_known_bound); then enumerates the children of its other parents that can reach the
   ///     shared cut into its candidate buffer (enumerate_share);
@@ -512,15 +514,16 @@ class Rbpf {
           err = std::current_exception();
         }
       };
-      const int pb = static_cast<int>(static_cast<long long>(count_) * th / T);
-      const int pe = static_cast<int>(static_cast<long long>(count_) * (th + 1) / T);
+      const std::pair<int, int> own = own_parents(th, T);
+      const int pb = own.first, pe = own.second;
       w.merged = 0;
       w.crec.clear();
       shared_cut_[static_cast<std::size_t>(th)].q.store(-kInf, std::memory_order_relaxed);  // stale: invalid
-      // A. factors, best child and known child weights of every parent, then the neighbour sweep, both in
-      // chunks claimed at run time (EndClaims: the threads end together whatever their cores' speeds).
-      // Thread 0 first sets up the sweep (a serial pass: before the region, both cores waited for it); the
-      // others take factor chunks meanwhile.
+      // A. factors, best child and known child weights of every parent, then the neighbour sweep in chunks
+      // claimed at run time (EndClaims: the threads end together whatever their cores' speeds). On two
+      // threads each computes its own parents' factors (own_parents); on more, the factors are claimed in
+      // chunks too. Thread 0 first sets up the sweep (a serial pass: before the region, both cores waited
+      // for it); the other thread starts its factors meanwhile and takes more sweep chunks.
       guarded([&] { std::fill(w.near.begin(), w.near.begin() + count_, 0); });
       if (merge && th == 0) {
         sweep_ok_ = false;
@@ -532,11 +535,15 @@ class Rbpf {
         pp::mark(th, pp::kSweepSetup);
       }
       guarded([&] {
-        const int nf = std::min(count_, kFactorChunks);
-        for (int front = 0, c; (c = claims_->factors.claim(th, nf, front)) >= 0;) {
-          const int b = static_cast<int>(static_cast<long long>(count_) * c / nf);
-          const int e = static_cast<int>(static_cast<long long>(count_) * (c + 1) / nf);
-          for (int p = b; p < e; ++p) parent_bounds(p, k, w);
+        if (T == 2) {
+          for (int p = pb; p < pe; ++p) parent_bounds(p, k, w);
+        } else {
+          const int nf = std::min(count_, kFactorChunks);
+          for (int front = 0, c; (c = claims_->factors.claim(th, nf, front)) >= 0;) {
+            const int b = static_cast<int>(static_cast<long long>(count_) * c / nf);
+            const int e = static_cast<int>(static_cast<long long>(count_) * (c + 1) / nf);
+            for (int p = b; p < e; ++p) parent_bounds(p, k, w);
+          }
         }
         pp::mark(th, pp::kFactors);
         if (merge) {
@@ -600,6 +607,20 @@ class Rbpf {
     });
     phase_profile::mark(0, phase_profile::kJoin);
     bank_collect(info);
+  }
+
+  /// Thread th's own parents [pb, pe) in the reordered region, whose factors (on two threads), sorted list
+  /// and enumeration it computes. On two threads, thread 0's are the parents that its UKF bank chunks
+  /// updated in the last step (parent_split_) and the worker's the rest: each thread then reads the
+  /// means, weights and factors that its own core wrote. Before, the factors were claimed in chunks and the
+  /// enumeration split the parents evenly, so each crossed over at its own point: rRBPF-128 on H2 took a
+  /// median 78.3 us per 2-thread step, 76.9 us with this split (rbpf_speedup.py, 8 alternating lockstep
+  /// rounds each, 2026-12-04). A contiguous even split otherwise (first step, three or more threads).
+  std::pair<int, int> own_parents(int th, int T) const {
+    if (T == 2 && parent_split_ > 0 && parent_split_ < count_)
+      return th == 0 ? std::pair<int, int>{0, parent_split_} : std::pair<int, int>{parent_split_, count_};
+    return {static_cast<int>(static_cast<long long>(count_) * th / T),
+            static_cast<int>(static_cast<long long>(count_) * (th + 1) / T)};
   }
 
   /// The kept children: the global top M lies in the union of the threads' top-M lists (merged children
@@ -806,8 +827,9 @@ class Rbpf {
     publish();  // final: the selection filters with it
   }
 
-  /// Chunks of the factors and of the neighbour sweep (reordered region, phase A), claimed at run time:
-  /// about 8 parents' factors (0.5 us each on H2 at M = 128) and 1/8 of the pair tests each.
+  /// Chunks of the factors (three or more threads) and of the neighbour sweep (reordered region, phase A),
+  /// claimed at run time: about 8 parents' factors (0.5 us each on H2 at M = 128) and 1/8 of the pair tests
+  /// each.
   static constexpr int kFactorChunks = 16, kSweepChunks = 8;
 
   /// Set-up of the neighbour sweep (thread 0, before it sweeps): the predicted means F x_p (unless the last
@@ -955,6 +977,7 @@ class Rbpf {
       reordered_region(k, t, info);
     } catch (...) {
       xpred_ready_ = false;
+      parent_split_ = 0;
       throw;
     }
     xpred_ready_ = false;
@@ -989,6 +1012,8 @@ class Rbpf {
     std::swap(logw_, nlogw_);
     count_ = ns;
     xpred_ready_ = true;
+    // The kept children in index order are the new particles: those of thread 0's chunks come first.
+    parent_split_ = bank_threads_ == 2 ? bank_front_ : 0;
   }
 
   /// Reordered summary of bank chunk c, updated particles [b, e): keys, next predicted means, and the
@@ -1071,6 +1096,7 @@ class Rbpf {
       logw_[u] = off_logw_[o] - zs;  // renormalised after pruning
     }
     count_ = ns;
+    parent_split_ = 0;
   }
 
   /// Cost of a parent's sigma-point preparation (UkfKernel::prepare) in child updates (finish), for the
@@ -1139,6 +1165,7 @@ class Rbpf {
     std::fill(thread_fail_.begin(), thread_fail_.end(), 0);
     std::fill(thread_status_.begin(), thread_status_.end(), CholeskyStatus::kOk);
     bank_threads_ = T;
+    bank_front_ = 0;
     claims_->bank.reset();  // published by the region's hand-off or barrier
     nchunks_ = 0;
     if (n <= 0) return;
@@ -1200,8 +1227,10 @@ class Rbpf {
     // thread_fail_ share a cache line, and a store per update would bounce it between the cores.
     CholeskyStatus ts = CholeskyStatus::kOk;
     int fails = 0;
+    int front_end = 0;  // thread 0: end of its last chunk
     for (int front = 0, c; (c = claims_->bank.claim(th, nchunks_, front)) >= 0;) {
       const int b = chunk_[static_cast<std::size_t>(c)], e = chunk_[static_cast<std::size_t>(c) + 1];
+      front_end = e;
       int last = -1;
       CholeskyStatus pst = CholeskyStatus::kOk;
       for (int i = b; i < e; ++i) {
@@ -1233,6 +1262,7 @@ class Rbpf {
       }
       after(c, b, e, w);
     }
+    if (th == 0) bank_front_ = front_end;  // thread 0 claims from the first chunk on: it ran [0, front_end)
     thread_fail_[static_cast<std::size_t>(th)] = fails;
     thread_status_[static_cast<std::size_t>(th)] = ts;
   }
@@ -1325,6 +1355,8 @@ class Rbpf {
   std::vector<int> back_cut_;               // bank_split: the back half's chunk starts, last first
   std::vector<unsigned char> split_first_;  // bank_split: 1 where a parent's run of children begins
   int nchunks_ = 0;                         // chunks of the last bank
+  int bank_front_ = 0;                      // the last bank's thread 0 ran children [0, bank_front_)
+  int parent_split_ = 0;                    // own_parents on two threads: thread 0's are [0, it); 0: none
   struct Claims {  // run-time chunk claims of the reordered region and of the bank (pointer: movable)
     EndClaims factors, sweep, bank;
   };
