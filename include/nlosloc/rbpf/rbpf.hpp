@@ -945,10 +945,17 @@ class Rbpf {
     w.sub_parent.clear();
     w.sub_key.clear();
     w.sub_logw.clear();
+    // With every situation vector enumerated, child j of a parent has key j (enumerate_all's order): the
+    // thread's keys are then one slice of each parent's children, and it reads only that slice.
+    std::size_t j0 = 0, j1 = per;
+    if (full_enum_) {
+      j0 = std::min<std::size_t>(per, static_cast<std::size_t>(th) * chunk);
+      j1 = std::min<std::size_t>(per, static_cast<std::size_t>(th + 1) * chunk);
+    }
     for (int p = 0; p < count_; ++p) {
       if (!is_near(p)) continue;
-      for (std::size_t i = static_cast<std::size_t>(p) * per; i < (static_cast<std::size_t>(p) + 1) * per;
-           ++i) {
+      const std::size_t u0 = static_cast<std::size_t>(p) * per;
+      for (std::size_t i = u0 + j0; i < u0 + j1; ++i) {
         if (!(off_logw_[i] > -kInf) || static_cast<int>(off_key_[i] / chunk) != th) continue;
         w.sub.push_back(static_cast<int>(i));
         w.sub_parent.push_back(p);
