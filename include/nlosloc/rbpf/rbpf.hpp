@@ -227,7 +227,6 @@ class Rbpf {
     for (int b = 0; b < B_; ++b) prob_.row(b) = sight_.model(b).initial().transpose();
     pos_var_ = position_variance(initial.cov);
     xpred_ready_ = false;
-    parent_split_ = 0;
   }
 
   /// One iteration with measurements y (size rows; NaN = missing) and quality statistics o (size B;
@@ -474,11 +473,11 @@ class Rbpf {
 
   /// The reordered step (Table V) in one parallel region, phases split by spin barriers (one hand-off
   /// per step; the calling thread is thread 0):
-  ///  A. the threads compute the factors, best child and three known child weights of the parents (on two
-  ///     threads each of its own parents, own_parents; on more in chunks claimed at run time), then sweep
-  ///     the parent pairs for neighbours (eq. 29 on the predicted means: children keep their parent's
-  ///     kinetic belief, so two children are close exactly when they have the same situation and their
-  ///     parents are close) in chunks claimed at run time; thread 0 sets the sweep up first;
+  ///  A. each thread computes the factors, best child and three known child weights of its own parents
+  ///     (own_parents), then the threads sweep the parent pairs for neighbours (eq. 29 on the predicted
+  ///     means: children keep their parent's kinetic belief, so two children are close exactly when they
+  ///     have the same situation and their parents are close) in chunks claimed at run time; thread 0 sets
+  ///     the sweep up first;
   ///  B. each thread sorts a contiguous share of the parents (its own parents) by their best child, writes
   ///     every child of its parents with a neighbour and publishes its first shared bound
   ///     (publish_known_bound); then enumerates the children of its other parents that can reach the
@@ -499,7 +498,6 @@ class Rbpf {
     const bool merge = opt_.merge && count_ > 1;
     region_failed_ = false;
     const unsigned gen = ++region_gen_;
-    claims_->factors.reset();  // published by the region's hand-off
     claims_->sweep.reset();
     threads_.pool->parallel_for(T, [&](int th, int, int) {
       namespace pp = phase_profile;
@@ -519,11 +517,11 @@ class Rbpf {
       w.merged = 0;
       w.crec.clear();
       shared_cut_[static_cast<std::size_t>(th)].q.store(-kInf, std::memory_order_relaxed);  // stale: invalid
-      // A. factors, best child and known child weights of every parent, then the neighbour sweep in chunks
-      // claimed at run time (EndClaims: the threads end together whatever their cores' speeds). On two
-      // threads each computes its own parents' factors (own_parents); on more, the factors are claimed in
-      // chunks too. Thread 0 first sets up the sweep (a serial pass: before the region, both cores waited
-      // for it); the other thread starts its factors meanwhile and takes more sweep chunks.
+      // A. factors, best child and known child weights of the thread's own parents, then the neighbour sweep
+      // in chunks claimed at run time (EndClaims: the threads end together whatever their cores' speeds,
+      // and the sweep absorbs the factors' imbalance). Thread 0 first sets up the sweep (a serial pass:
+      // before the region, both cores waited for it); the others start their factors meanwhile and take
+      // more sweep chunks.
       guarded([&] { std::fill(w.near.begin(), w.near.begin() + count_, 0); });
       if (merge && th == 0) {
         sweep_ok_ = false;
@@ -535,16 +533,7 @@ class Rbpf {
         pp::mark(th, pp::kSweepSetup);
       }
       guarded([&] {
-        if (T == 2) {
-          for (int p = pb; p < pe; ++p) parent_bounds(p, k, w);
-        } else {
-          const int nf = std::min(count_, kFactorChunks);
-          for (int front = 0, c; (c = claims_->factors.claim(th, nf, front)) >= 0;) {
-            const int b = static_cast<int>(static_cast<long long>(count_) * c / nf);
-            const int e = static_cast<int>(static_cast<long long>(count_) * (c + 1) / nf);
-            for (int p = b; p < e; ++p) parent_bounds(p, k, w);
-          }
-        }
+        for (int p = pb; p < pe; ++p) parent_bounds(p, k, w);
         pp::mark(th, pp::kFactors);
         if (merge) {
           sweep_ready_->wait(gen);
@@ -609,10 +598,10 @@ class Rbpf {
     bank_collect(info);
   }
 
-  /// Thread th's own parents [pb, pe) in the reordered region, whose factors (on two threads), sorted list
-  /// and enumeration it computes. On two threads, thread 0's are the parents that its UKF bank chunks
-  /// updated in the last step (parent_split_) and the worker's the rest: each thread then reads the
-  /// means, weights and factors that its own core wrote. Before, the factors were claimed in chunks and the
+  /// Thread th's own parents [pb, pe) in the reordered region, whose factors, sorted list and enumeration it
+  /// computes. On two threads, thread 0's are the parents that its UKF bank chunks updated in the last step
+  /// (parent_split_) and the worker's the rest: each thread then reads the means, weights and factors that
+  /// its own core wrote. Before, the factors were claimed in chunks and the
   /// enumeration split the parents evenly, so each crossed over at its own point: rRBPF-128 on H2 took a
   /// median 78.3 us per 2-thread step, 76.9 us with this split (rbpf_speedup.py, 8 alternating lockstep
   /// rounds each, 2026-12-04). A contiguous even split otherwise (first step, three or more threads).
@@ -827,10 +816,9 @@ class Rbpf {
     publish();  // final: the selection filters with it
   }
 
-  /// Chunks of the factors (three or more threads) and of the neighbour sweep (reordered region, phase A),
-  /// claimed at run time: about 8 parents' factors (0.5 us each on H2 at M = 128) and 1/8 of the pair tests
+  /// Chunks of the neighbour sweep (reordered region, phase A), claimed at run time: 1/8 of the pair tests
   /// each.
-  static constexpr int kFactorChunks = 16, kSweepChunks = 8;
+  static constexpr int kSweepChunks = 8;
 
   /// Set-up of the neighbour sweep (thread 0, before it sweeps): the predicted means F x_p (unless the last
   /// UKF bank left them), the parents bucketed by their first state component into cells of width w >= d_min
@@ -984,7 +972,6 @@ class Rbpf {
       reordered_region(k, t, info);
     } catch (...) {
       xpred_ready_ = false;
-      parent_split_ = 0;
       throw;
     }
     xpred_ready_ = false;
@@ -1103,7 +1090,6 @@ class Rbpf {
       logw_[u] = off_logw_[o] - zs;  // renormalised after pruning
     }
     count_ = ns;
-    parent_split_ = 0;
   }
 
   /// Cost of a parent's sigma-point preparation (UkfKernel::prepare) in child updates (finish), for the
@@ -1363,9 +1349,11 @@ class Rbpf {
   std::vector<unsigned char> split_first_;  // bank_split: 1 where a parent's run of children begins
   int nchunks_ = 0;                         // chunks of the last bank
   int bank_front_ = 0;                      // the last bank's thread 0 ran children [0, bank_front_)
-  int parent_split_ = 0;                    // own_parents on two threads: thread 0's are [0, it); 0: none
+  // own_parents on two threads: thread 0's are [0, it), set by each reordered step (a rejected step leaves
+  // the particles and so their split); used only when inside (0, count_), so a reset needs no clearing
+  int parent_split_ = 0;
   struct Claims {  // run-time chunk claims of the reordered region and of the bank (pointer: movable)
-    EndClaims factors, sweep, bank;
+    EndClaims sweep, bank;
   };
   std::unique_ptr<Claims> claims_ = std::make_unique<Claims>();
   std::vector<ChunkMoments> csum_;             // each chunk's moments (reordered step)
