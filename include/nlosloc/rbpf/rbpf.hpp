@@ -147,14 +147,11 @@ class Rbpf {
     key_count_ = total;
     sel_.reserve(cap);
     if (options.variant == RbpfVariant::kClassical) mws_.reserve(cap);
-    best_.assign(static_cast<std::size_t>(M), 0.0);
-    known_.assign(3 * static_cast<std::size_t>(M), 0.0);
     byx_.reserve(static_cast<std::size_t>(M));
     sxp_.reserve(static_cast<std::size_t>(M));
     sweep_split_.assign(static_cast<std::size_t>(kSweepChunks) + 1, 0);
     cell_.reserve(static_cast<std::size_t>(M) + 1);
     pcell_.assign(static_cast<std::size_t>(M), 0);
-    apar_.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
     // Each thread allocates its own kernel and scratch, from its own glibc arena (Threads frees them the
     // same way). Allocated in turn by the caller, one thread's buffers could share cache lines with the
     // next thread's; H2 rRBPF-128, interleaved 1/2-thread pairs: speed-up 1.44-1.47 before, 1.46-1.50 after.
@@ -178,6 +175,9 @@ class Rbpf {
       w->opt.assign(static_cast<std::size_t>(B_) * static_cast<std::size_t>(nz_), 0);
       w->ktmp.assign(3 * static_cast<std::size_t>(M), 0.0);
       w->near.assign(static_cast<std::size_t>(M), 0);
+      w->apar.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
+      w->best.assign(static_cast<std::size_t>(M), 0.0);
+      w->known.assign(3 * static_cast<std::size_t>(M), 0.0);
       if (options.variant == RbpfVariant::kReordered) {
         w->sub.reserve(cap);
         w->sub_parent.reserve(cap);
@@ -186,7 +186,7 @@ class Rbpf {
         w->mws.reserve(cap);
       }
       if (static_cast<std::uint64_t>(per_parent_) < total)
-        w->best.reserve(B_, nz_, static_cast<std::uint64_t>(per_parent_));
+        w->bfw.reserve(B_, nz_, static_cast<std::uint64_t>(per_parent_));
       threads_.work[t] = std::move(w);
     });
     thread_fail_.assign(static_cast<std::size_t>(threads_.pool->size()), 0);
@@ -333,7 +333,7 @@ class Rbpf {
     std::vector<double> sel_w, sel_tmp;  // keep_heaviest scratch of crec
     std::vector<ChildRecord> sel_ties;
     std::vector<int> psorted;  // this thread's share of the parents, by decreasing best child
-    std::vector<double> ktmp;  // scratch copy of known_
+    std::vector<double> ktmp;  // scratch copy of known
     std::vector<int> opt;      // B x N_z: each anchor's conditions by decreasing factor (offer_pruned)
     std::vector<char> near;    // near[p] = 1 when this thread's sweep found a neighbour of parent p
     // merge_share: this thread's children of parents with a neighbour, their keys and log weights
@@ -341,9 +341,17 @@ class Rbpf {
     std::vector<std::uint64_t> sub_key;
     std::vector<double> sub_logw;
     MergeWorkspace mws;
-    int merged = 0;           // children absorbed by this thread's merge
-    BestFirstWorkspace best;  // bounded enumeration (reserved at construction when it is used)
-    MatX mprob;               // accumulate_moments: situation weights of the chunk being summed
+    int merged = 0;          // children absorbed by this thread's merge
+    BestFirstWorkspace bfw;  // bounded enumeration (reserved at construction when it is used)
+    MatX mprob;              // accumulate_moments: situation weights of the chunk being summed
+    // The factors, best child weight and three known child weights of the thread's own parents, parent p
+    // in slot p - first (parent_bounds): written and read by this thread only. In arrays shared by the
+    // threads and indexed by parent, the 2-thread factors took 28.0-29.8 us of work per step against
+    // 26.9 on one thread, 28.1 so (nlosloc-rbpf-phases --pin 0,1); rRBPF-128 on H2, 4 alternating
+    // lockstep rounds of rbpf_speedup.py: 2-thread step 76.2-77.0 -> 75.6-76.2 us (2026-12-04).
+    int first = 0;
+    std::vector<MatX> apar;  // factors A (B x N_z)
+    std::vector<double> best, known;
   };
 
   /// Weighted sums of one bank chunk's updated particles relative to its largest log weight mmax
@@ -392,6 +400,10 @@ class Rbpf {
     }
   };
 
+  /// The factors and the best child weight of parent p, one of thread w's own parents.
+  static MatX& factors(ThreadWork& w, int p) { return w.apar[static_cast<std::size_t>(p - w.first)]; }
+  static double best_of(const ThreadWork& w, int p) { return w.best[static_cast<std::size_t>(p - w.first)]; }
+
   /// A(b, z) = log P(s_b,t = z | s_b,t-1) + log p(o_b | z) for parent p (eqs. 9, 25, 32).
   void parent_factors(int p, long k, ThreadWork& w, MatX& A) const {
     if (sight_.speed_dependent()) {
@@ -420,7 +432,7 @@ class Rbpf {
   void for_each_child(int p, ThreadWork& w, Emit emit) {
     const double base = logw_[static_cast<std::size_t>(p)];
     int j = 0;
-    enumerate_offspring(apar_[static_cast<std::size_t>(p)], static_cast<std::uint64_t>(per_parent_), w.best,
+    enumerate_offspring(factors(w, p), static_cast<std::uint64_t>(per_parent_), w.bfw,
                         [&](std::uint64_t key, double s) { emit(j++, key, base + s); });
     for (; j < per_parent_; ++j) emit(j, 0, -kInf);  // not reached: both enumerations emit `per` children
   }
@@ -452,8 +464,7 @@ class Rbpf {
   void offer_pruned(int p, ThreadWork& w, const double& cut, Offer& offer) {
     const int u0 = p * per_parent_;
     enumerate_above(
-        apar_[static_cast<std::size_t>(p)], logw_[static_cast<std::size_t>(p)], pow_nz_.data(), w.opt.data(),
-        [&] { return cut; },
+        factors(w, p), logw_[static_cast<std::size_t>(p)], pow_nz_.data(), w.opt.data(), [&] { return cut; },
         [&](std::uint64_t key, double weight) {
           offer(ChildRecord{weight, u0 + static_cast<int>(key), p, key});
         });
@@ -463,8 +474,9 @@ class Rbpf {
   int expand_all(long k) {
     threads_.pool->parallel_for(count_, [&](int pb, int pe, int th) {
       ThreadWork& w = *threads_.work[static_cast<std::size_t>(th)];
+      w.first = pb;
       for (int p = pb; p < pe; ++p) {
-        parent_factors(p, k, w, apar_[static_cast<std::size_t>(p)]);
+        parent_factors(p, k, w, factors(w, p));
         emit_children(p, w);
       }
     });
@@ -514,6 +526,7 @@ class Rbpf {
       };
       const std::pair<int, int> own = own_parents(th, T);
       const int pb = own.first, pe = own.second;
+      w.first = pb;
       w.merged = 0;
       w.crec.clear();
       shared_cut_[static_cast<std::size_t>(th)].q.store(-kInf, std::memory_order_relaxed);  // stale: invalid
@@ -547,11 +560,12 @@ class Rbpf {
       // merge is skipped by all threads alike when no parent has a neighbour (they see the same flags).
       barrier_->arrive_and_wait(T);
       pp::mark(th, pp::kWaitFactors);
-      // This thread's parents by decreasing best child (their factors may come from another thread).
+      // This thread's parents by decreasing best child.
       guarded([&] {
         w.psorted.resize(static_cast<std::size_t>(pe - pb));
         std::iota(w.psorted.begin(), w.psorted.end(), pb);
-        std::sort(w.psorted.begin(), w.psorted.end(), HeavierFirst{best_.data()});
+        std::sort(w.psorted.begin(), w.psorted.end(),
+                  [&](int a, int b) { return heavier_first(best_of(w, a), a, best_of(w, b), b); });
       });
       pp::mark(th, pp::kSort);
       // B. children of the parents with a neighbour; first shared bound; enumeration of the others
@@ -657,13 +671,14 @@ class Rbpf {
     return n;
   }
 
-  /// Factors A of parent p, its best child's weight best_[p] and three known child weights known_[3p..]
-  /// (used for the cut only when p has no neighbour).
+  /// Factors A of the thread's parent p, its best child's weight and three known child weights (used for
+  /// the cut only when p has no neighbour), in the thread's slots (ThreadWork::first).
   void parent_bounds(int p, long k, ThreadWork& w) {
-    MatX& A = apar_[static_cast<std::size_t>(p)];
+    MatX& A = factors(w, p);
     parent_factors(p, k, w, A);
     const double bp = logw_[static_cast<std::size_t>(p)] + A.rowwise().maxCoeff().sum();
-    best_[static_cast<std::size_t>(p)] = bp;
+    const auto slot = static_cast<std::size_t>(p - w.first);
+    w.best[slot] = bp;
     // Three of p's children with known weights: the best, and the best with the anchor of the smallest
     // (then second smallest) gap between its best and second-best condition switched.
     double g1 = kInf, g2 = kInf;
@@ -687,11 +702,11 @@ class Rbpf {
           g2 = g;
         }
       }
-    const auto u = 3 * static_cast<std::size_t>(p);
+    const auto u = 3 * slot;
     // The i-th heaviest emitted child weighs at least the i-th known one (i <= children emitted).
-    known_[u] = bp;
-    known_[u + 1] = per_parent_ < 2 ? -kInf : bp - g1;
-    known_[u + 2] = per_parent_ < 3 ? -kInf : bp - g2;
+    w.known[u] = bp;
+    w.known[u + 1] = per_parent_ < 2 ? -kInf : bp - g1;
+    w.known[u + 2] = per_parent_ < 3 ? -kInf : bp - g2;
   }
 
   /// Shared cut of the reordered enumeration. Thread t publishes q_t, a weight such that at least H =
@@ -717,8 +732,8 @@ class Rbpf {
     std::size_t nk = 0;
     for (const int p : w.psorted) {
       if (is_near(p)) continue;
-      const auto u = 3 * static_cast<std::size_t>(p);
-      for (std::size_t i = 0; i < 3; ++i) w.ktmp[nk++] = known_[u + i];
+      const auto u = 3 * static_cast<std::size_t>(p - w.first);
+      for (std::size_t i = 0; i < 3; ++i) w.ktmp[nk++] = w.known[u + i];
     }
     double q = -kInf;
     if (nk >= H) {
@@ -806,7 +821,7 @@ class Rbpf {
         others = read_others();
         update_cut();
       }
-      if (!may_reach(best_[static_cast<std::size_t>(p)], cut)) break;
+      if (!may_reach(best_of(w, p), cut)) break;
       if (is_near(p)) continue;
       if (full_enum_)
         offer_pruned(p, w, cut, offer);
@@ -1337,11 +1352,8 @@ class Rbpf {
   std::vector<ChildRecord> sel_ties_;
   std::vector<ChildRecord> sel_order_;  // reordered: the kept children by index (log weight: eq. 32 prior)
   std::vector<int> pstart_;             // order_by_index: each parent's group (counting sort)
-  std::vector<double> best_;            // best child log weight per parent
-  std::vector<double> known_;           // three known child weights per parent
   static constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<MatX> apar_;  // per-parent factors A (B x N_z)
-  MergeWorkspace mws_;      // classical RBPF's merge
+  MergeWorkspace mws_;  // classical RBPF's merge
   // per-thread UKF workspaces
   std::vector<int> thread_fail_;
   std::vector<int> chunk_;                  // bank_split: first child of each chunk (kMaxChunks + 1)
