@@ -218,6 +218,7 @@ class Rbpf {
     cov_[0] = initial.cov;
     key_[0] = 0;
     logw_[0] = 0.0;
+    logw_shift_ = 0.0;
     first_ = true;
     t_ = t0;
     k_ = 0;
@@ -260,11 +261,11 @@ class Rbpf {
   /// Number of particles carried to the next step (<= M).
   int num_particles() const { return count_; }
   /// Normalised log weight of particle i.
-  double log_weight(int i) const { return logw_.at(static_cast<std::size_t>(check(i))); }
+  double log_weight(int i) const { return logw_.at(static_cast<std::size_t>(check(i))) - logw_shift_; }
   /// Normalised weights (size num_particles()).
   VecX weights() const {
     VecX w(count_);
-    for (int i = 0; i < count_; ++i) w(i) = std::exp(logw_[static_cast<std::size_t>(i)]);
+    for (int i = 0; i < count_; ++i) w(i) = std::exp(logw_[static_cast<std::size_t>(i)] - logw_shift_);
     return w;
   }
   /// Kinetic mean / covariance of particle i (eq. 26).
@@ -430,7 +431,7 @@ class Rbpf {
   /// first factors of eq. 25), child index p * per + j.
   template <class Emit>
   void for_each_child(int p, ThreadWork& w, Emit emit) {
-    const double base = logw_[static_cast<std::size_t>(p)];
+    const double base = logw_[static_cast<std::size_t>(p)] - logw_shift_;
     int j = 0;
     enumerate_offspring(factors(w, p), static_cast<std::uint64_t>(per_parent_), w.bfw,
                         [&](std::uint64_t key, double s) { emit(j++, key, base + s); });
@@ -464,7 +465,8 @@ class Rbpf {
   void offer_pruned(int p, ThreadWork& w, const double& cut, Offer& offer) {
     const int u0 = p * per_parent_;
     enumerate_above(
-        factors(w, p), logw_[static_cast<std::size_t>(p)], pow_nz_.data(), w.opt.data(), [&] { return cut; },
+        factors(w, p), logw_[static_cast<std::size_t>(p)] - logw_shift_, pow_nz_.data(), w.opt.data(),
+        [&] { return cut; },
         [&](std::uint64_t key, double weight) {
           offer(ChildRecord{weight, u0 + static_cast<int>(key), p, key});
         });
@@ -676,7 +678,7 @@ class Rbpf {
   void parent_bounds(int p, long k, ThreadWork& w) {
     MatX& A = factors(w, p);
     parent_factors(p, k, w, A);
-    const double bp = logw_[static_cast<std::size_t>(p)] + A.rowwise().maxCoeff().sum();
+    const double bp = (logw_[static_cast<std::size_t>(p)] - logw_shift_) + A.rowwise().maxCoeff().sum();
     const auto slot = static_cast<std::size_t>(p - w.first);
     w.best[slot] = bp;
     // Three of p's children with known weights: the best, and the best with the anchor of the smallest
@@ -999,7 +1001,6 @@ class Rbpf {
         z = log_add(z, m.mmax + std::log(m.m0));
     if (!std::isfinite(z))
       nlosloc::detail::throw_numerical_error("Rbpf.step: every UKF update failed or had zero likelihood");
-    for (int i = 0; i < ns; ++i) nlogw_[static_cast<std::size_t>(i)] -= z;
     info.log_likelihood = z;
     State d = State::Zero();
     Cov m2 = Cov::Zero();
@@ -1020,6 +1021,9 @@ class Rbpf {
     std::swap(key_, nkey_);
     std::swap(logw_, nlogw_);
     count_ = ns;
+    // Normalised by the shift instead of a pass over nlogw_: thread 0 would write the lines of the worker's
+    // chunks, which its core then reads back in the next step's factors and rewrites in the bank after.
+    logw_shift_ = z;
     xpred_ready_ = true;
     // The kept children in index order are the new particles: those of thread 0's chunks come first.
     parent_split_ = bank_threads_ == 2 ? bank_front_ : 0;
@@ -1104,6 +1108,7 @@ class Rbpf {
       key_[u] = off_key_[o];
       logw_[u] = off_logw_[o] - zs;  // renormalised after pruning
     }
+    logw_shift_ = 0.0;
     count_ = ns;
   }
 
@@ -1325,6 +1330,7 @@ class Rbpf {
   int B_ = 0, nz_ = 0, per_parent_ = 0, count_ = 0;
   bool first_ = true;
   double t_ = 0.0, pos_var_ = 0.0;
+  double logw_shift_ = 0.0;  // particle i's normalised log weight is logw_[i] - logw_shift_
   long k_ = 0;
   // particles (current and next buffers)
   std::vector<State> mean_, nmean_, xpred_;
