@@ -36,20 +36,22 @@ enum Phase : int {
   kTrim,             ///< candidates below the final shared bound dropped (finish_candidates)
   kWaitSelection,    ///< barrier: every candidate list final
   kSelection,        ///< thread 0: the M heaviest, ordered and split for the bank (select_kept)
-  kWaitBank,         ///< barrier: the selection done
-  kBank,             ///< the thread's chunks of the UKF bank (eq. 26, Table III), each with its moments of
-                     ///< eqs. (27)-(28) and next predicted means
-  kJoin,             ///< thread 0: every thread left the region
-  kStepEnd,          ///< thread 0: the step returns (normalisation, eq. 28, swaps)
+  kSpeculation,  ///< the other threads meanwhile: UKF updates of their likeliest kept children (speculate)
+  kWaitBank,     ///< the selection published
+  kBank,         ///< the thread's chunks of the UKF bank (eq. 26, Table III), each with its moments of
+                 ///< eqs. (27)-(28) and next predicted means
+  kJoin,         ///< thread 0: every thread left the region
+  kStepEnd,      ///< thread 0: the step returns (normalisation, eq. 28, swaps)
   kPhaseCount
 };
 
 /// Short name of a phase, for tables.
 inline const char* name(Phase p) {
   static constexpr std::array<const char*, kPhaseCount> kNames = {
-      "region start",  "sweep set-up", "factors",     "sweep",        "wait (sweeps)", "sort",
-      "near children", "wait (bound)", "enumeration", "wait (merge)", "merge",         "trim",
-      "wait (select)", "selection",    "wait (bank)", "UKF bank",     "join",          "step end"};
+      "region start", "sweep set-up",  "factors",       "sweep",       "wait (sweeps)",
+      "sort",         "near children", "wait (bound)",  "enumeration", "wait (merge)",
+      "merge",        "trim",          "wait (select)", "selection",   "speculation",
+      "wait (bank)",  "UKF bank",      "join",          "step end"};
   return p >= 0 && p < kPhaseCount ? kNames[static_cast<std::size_t>(p)] : "?";
 }
 

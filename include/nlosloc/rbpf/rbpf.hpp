@@ -183,6 +183,10 @@ class Rbpf {
       w->apar.assign(static_cast<std::size_t>(M), MatX::Zero(B_, nz_));
       w->best.assign(static_cast<std::size_t>(M), 0.0);
       w->known.assign(3 * static_cast<std::size_t>(M), 0.0);
+      if (th > 0 && options.variant == RbpfVariant::kReordered) {  // speculate runs on the other threads only
+        w->spec.resize(static_cast<std::size_t>(kMaxSpeculated));
+        w->spec_rec.reserve(static_cast<std::size_t>(M));
+      }
       if (options.variant == RbpfVariant::kReordered) {
         w->sub.reserve(cap);
         w->sub_parent.reserve(cap);
@@ -322,12 +326,26 @@ class Rbpf {
   static constexpr int kMinParallel = 64;
   int active_threads(int n) const { return n >= kMinParallel ? threads_.pool->size() : 1; }
 
-  /// A child for the UKF bank: its parent, prior log weight and situation key.
+  /// A child for the UKF bank: its parent, prior log weight, situation key and child index (p x children
+  /// per parent + j).
   struct BankChild {
     int parent;
     double prior;
     std::uint64_t key;
+    int idx;
   };
+
+  /// A kept child's UKF update made ahead of the bank (speculate), by child index.
+  struct Speculated {
+    int idx = -1;
+    bool ok = false;
+    CholeskyStatus status = CholeskyStatus::kOk;
+    double logw = 0.0;
+    State x;
+    Cov P;
+  };
+  /// At most this many per thread and step: the selection it overlaps lasts a few updates.
+  static constexpr int kMaxSpeculated = 12;
 
   /// Per-thread scratch of the expansion and the UKF bank.
   struct ThreadWork {
@@ -358,6 +376,10 @@ class Rbpf {
     int first = 0;
     std::vector<MatX> apar;  // factors A (B x N_z)
     std::vector<double> best, known;
+    // speculate: the children updated ahead of the bank (by decreasing index) and a scratch copy of crec
+    std::vector<Speculated> spec;
+    int nspec = 0;
+    std::vector<ChildRecord> spec_rec;
   };
 
   /// Weighted sums of one bank chunk's updated particles relative to its largest log weight mmax
@@ -503,7 +525,8 @@ class Rbpf {
   ///     shared cut into its candidate buffer (enumerate_share);
   ///  C. merges (eqs. 29-30) the neighbours' children whose key falls in its key range (children with
   ///     different keys never merge) and keeps the survivors; drops its candidates below the final bound;
-  ///  D. thread 0 selects the M heaviest of the threads' candidates and splits the bank (select_kept);
+  ///  D. thread 0 selects the M heaviest of the threads' candidates and splits the bank (select_kept); the
+  ///     others meanwhile update the candidates their bank chunks most likely hold (speculate);
   ///  E. the threads run the UKF bank and the moments of eqs. (27)-(28) in chunks claimed at run time.
   void reordered_region(long k, double t, RbpfStepInfo& info) {
     const double d_min = info.merge_threshold;
@@ -534,6 +557,7 @@ class Rbpf {
       const std::pair<int, int> own = own_parents(th, T);
       const int pb = own.first, pe = own.second;
       w.first = pb;
+      w.nspec = 0;
       w.merged = 0;
       w.crec.clear();
       shared_cut_[static_cast<std::size_t>(th)].q.store(-kInf, std::memory_order_relaxed);  // stale: invalid
@@ -594,15 +618,20 @@ class Rbpf {
       pp::mark(th, pp::kMerge);
       guarded([&] { finish_candidates(T, w); });
       pp::mark(th, pp::kTrim);
-      // Selection (serial, on the calling thread) and the split of the bank, then the bank on all threads.
+      // Selection (serial, on the calling thread) and the split of the bank, then the bank on all threads;
+      // the others meanwhile update their likeliest kept children ahead of the bank.
       barrier_->arrive_and_wait(T);
       pp::mark(th, pp::kWaitSelection);
       if (th == 0) {
         guarded([&] { select_kept(info); });
         if (err) region_failed_ = true;
+        selected_->publish(gen);  // even after a failure: no one waits forever
         pp::mark(th, pp::kSelection);
+      } else {
+        guarded([&] { speculate(th, w, t, gen); });
+        pp::mark(th, pp::kSpeculation);
+        selected_->wait(gen);
       }
-      barrier_->arrive_and_wait(T);
       pp::mark(th, pp::kWaitBank);
       if (!region_failed_ && th < bank_threads_)
         guarded([&] {
@@ -663,7 +692,7 @@ class Rbpf {
   BankChild kept_child(int i) const {
     const auto u = static_cast<std::size_t>(i);
     const ChildRecord& r = sel_order_[u];
-    return BankChild{r.parent, r.logw, r.key};
+    return BankChild{r.parent, r.logw, r.key, r.idx};
   }
 
   /// True when parent p has a neighbour within d_min (set by any thread's sweep this step).
@@ -1082,7 +1111,7 @@ class Rbpf {
         n, t,
         [&](int i) {
           const auto u = static_cast<std::size_t>(i);
-          return BankChild{off_parent_[u], off_logw_[u], off_key_[u]};
+          return BankChild{off_parent_[u], off_logw_[u], off_key_[u], i};
         },
         [&](int i) -> State& { return off_mean_[static_cast<std::size_t>(i)]; },
         [&](int i) -> Cov& { return off_cov_[static_cast<std::size_t>(i)]; }, off_logw_.data(), info,
@@ -1249,7 +1278,6 @@ class Rbpf {
   void bank_part(int th, double t, Child child, MeanOut mean_out, CovOut cov_out, double* logw, After after) {
     auto& ker = *threads_.kernels[static_cast<std::size_t>(th)];
     ThreadWork& w = *threads_.work[static_cast<std::size_t>(th)];
-    StepResult res;
     // The thread's outcome stays in locals and is stored once: the threads' slots of thread_status_ /
     // thread_fail_ share a cache line, and a store per update would bounce it between the cores.
     CholeskyStatus ts = CholeskyStatus::kOk;
@@ -1262,36 +1290,88 @@ class Rbpf {
       CholeskyStatus pst = CholeskyStatus::kOk;
       for (int i = b; i < e; ++i) {
         const BankChild ch = child(i);
-        const int p = ch.parent;
-        if (p != last) {
-          pst = ker.prepare(motion_, meas_, mean_[static_cast<std::size_t>(p)],
-                            cov_[static_cast<std::size_t>(p)], t);
-          last = p;
-        }
-        if (pst == CholeskyStatus::kFailed) {
-          logw[i] = -std::numeric_limits<double>::infinity();
-          mean_out(i) = ker.predicted_mean();
-          cov_out(i) = cov_[static_cast<std::size_t>(p)];
-          ++fails;
-          ts = CholeskyStatus::kFailed;
-          continue;
-        }
-        decode_situation(ch.key, nz_, w.s);
-        const bool ok = ker.finish(w.s, y_, mean_out(i), cov_out(i), res);
-        ts = nlosloc::detail::worse(ts, res.status);
-        if (!ok || !std::isfinite(res.log_likelihood)) {
-          logw[i] = -std::numeric_limits<double>::infinity();
-          ++fails;
-          ts = CholeskyStatus::kFailed;
+        CholeskyStatus st;
+        bool ok;
+        if (const Speculated* s = find_speculated(w, ch.idx)) {  // updated ahead by this thread
+          mean_out(i) = s->x;
+          cov_out(i) = s->P;
+          logw[i] = s->logw;
+          st = s->status;
+          ok = s->ok;
         } else {
-          logw[i] = ch.prior + res.log_likelihood;  // eq. (25) / (33)
+          ok = update_child(ker, w, ch, t, last, pst, mean_out(i), cov_out(i), logw[i], st);
         }
+        ts = nlosloc::detail::worse(ts, st);
+        if (!ok) ++fails;
       }
       after(c, b, e, w);
     }
     if (th == 0) bank_front_ = front_end;  // thread 0 claims from the first chunk on: it ran [0, front_end)
     thread_fail_[static_cast<std::size_t>(th)] = fails;
     thread_status_[static_cast<std::size_t>(th)] = ts;
+  }
+
+  /// The UKF update of one bank child (Table III): prepares its parent's sigma points unless `last` is that
+  /// parent already (status pst), then writes the posterior into (x, P) and prior + log-likelihood into
+  /// logw (eq. 25 / 33). Returns false when the update failed (logw = -inf; x, P the prediction when the
+  /// parent's factorisation failed); st is the update's factorisation outcome (kFailed when it failed).
+  bool update_child(UkfKernel<Motion, Meas>& ker, ThreadWork& w, const BankChild& ch, double t, int& last,
+                    CholeskyStatus& pst, State& x, Cov& P, double& logw, CholeskyStatus& st) {
+    const int p = ch.parent;
+    if (p != last) {
+      pst = ker.prepare(motion_, meas_, mean_[static_cast<std::size_t>(p)], cov_[static_cast<std::size_t>(p)],
+                        t);
+      last = p;
+    }
+    logw = -std::numeric_limits<double>::infinity();
+    st = CholeskyStatus::kFailed;
+    if (pst == CholeskyStatus::kFailed) {
+      x = ker.predicted_mean();
+      P = cov_[static_cast<std::size_t>(p)];
+      return false;
+    }
+    decode_situation(ch.key, nz_, w.s);
+    StepResult res;
+    const bool ok = ker.finish(w.s, y_, x, P, res);
+    if (!ok || !std::isfinite(res.log_likelihood)) return false;
+    st = res.status;
+    logw = ch.prior + res.log_likelihood;  // eq. (25) / (33)
+    return true;
+  }
+
+  /// A thread other than the caller, while thread 0 selects (reordered region, before the bank): updates
+  /// its candidates of highest index, by decreasing index, until the selection is published (at most
+  /// kMaxSpeculated). They are the children of its own parents that its bank chunks, claimed from the last
+  /// one back, most likely hold; about nine in ten candidates are kept. The bank then copies an update made
+  /// here instead of making it (the same function on the same inputs, so the same result bit for bit); a
+  /// child that is not kept, or that another thread's chunk holds, only cost this thread its idle time.
+  void speculate(int th, ThreadWork& w, double t, unsigned gen) {
+    w.nspec = 0;
+    const auto n = std::min<std::size_t>(w.crec.size(), kMaxSpeculated);
+    if (n == 0) return;
+    w.spec_rec.assign(w.crec.begin(), w.crec.end());
+    auto higher = [](const ChildRecord& a, const ChildRecord& b) { return a.idx > b.idx; };
+    const auto mid = w.spec_rec.begin() + static_cast<std::ptrdiff_t>(n);
+    std::nth_element(w.spec_rec.begin(), mid - 1, w.spec_rec.end(), higher);
+    std::sort(w.spec_rec.begin(), mid, higher);
+    auto& ker = *threads_.kernels[static_cast<std::size_t>(th)];
+    int last = -1;
+    CholeskyStatus pst = CholeskyStatus::kOk;
+    for (std::size_t i = 0; i < n && !selected_->ready(gen); ++i) {
+      const ChildRecord& r = w.spec_rec[i];
+      Speculated& s = w.spec[static_cast<std::size_t>(w.nspec)];
+      s.idx = r.idx;
+      s.ok = update_child(ker, w, BankChild{r.parent, r.logw, r.key, r.idx}, t, last, pst, s.x, s.P, s.logw,
+                          s.status);
+      ++w.nspec;
+    }
+  }
+
+  /// This thread's update of child idx made ahead of the bank, or null.
+  static const Speculated* find_speculated(const ThreadWork& w, int idx) {
+    for (int i = 0; i < w.nspec; ++i)
+      if (w.spec[static_cast<std::size_t>(i)].idx == idx) return &w.spec[static_cast<std::size_t>(i)];
+    return nullptr;
   }
 
   void bank_collect(RbpfStepInfo& info) const {
@@ -1339,6 +1419,8 @@ class Rbpf {
   static constexpr int kShareEvery = 4;
   // published by thread 0 once it has set up the region's sweep (prepare_sweep; pointer: movable)
   std::unique_ptr<SpinFlag> sweep_ready_ = std::make_unique<SpinFlag>();
+  // published by thread 0 once it has selected the kept children and split the bank (pointer: movable)
+  std::unique_ptr<SpinFlag> selected_ = std::make_unique<SpinFlag>();
   unsigned region_gen_ = 0;  // reordered regions run
   bool sweep_ok_ = false;    // prepare_sweep succeeded (read after sweep_ready_)
   int B_ = 0, nz_ = 0, per_parent_ = 0, count_ = 0;

@@ -70,6 +70,8 @@ class SpinFlag {
   void wait(unsigned g) const {
     for (int i = 0; gen_.load(std::memory_order_acquire) != g; ++i) detail::spin_relax(i);
   }
+  /// True once g is published (acquire: the data written before it may then be read); never waits.
+  bool ready(unsigned g) const { return gen_.load(std::memory_order_acquire) == g; }
 
  private:
   alignas(64) std::atomic<unsigned> gen_{0};
