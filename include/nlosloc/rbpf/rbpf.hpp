@@ -270,11 +270,11 @@ class Rbpf {
   /// Number of particles carried to the next step (<= M).
   int num_particles() const { return count_; }
   /// Normalised log weight of particle i.
-  double log_weight(int i) const { return logw_.at(static_cast<std::size_t>(check(i))) - logw_shift_; }
+  double log_weight(int i) const { return normalised_logw(check(i)); }
   /// Normalised weights (size num_particles()).
   VecX weights() const {
     VecX w(count_);
-    for (int i = 0; i < count_; ++i) w(i) = std::exp(logw_[static_cast<std::size_t>(i)] - logw_shift_);
+    for (int i = 0; i < count_; ++i) w(i) = std::exp(normalised_logw(i));
     return w;
   }
   /// Kinetic mean / covariance of particle i (eq. 26).
@@ -428,6 +428,9 @@ class Rbpf {
     }
   };
 
+  /// Particle p's normalised log weight (logw_ is kept up to the shift; step_reordered).
+  double normalised_logw(int p) const { return logw_[static_cast<std::size_t>(p)] - logw_shift_; }
+
   /// The factors and the best child weight of parent p, one of thread w's own parents.
   static MatX& factors(ThreadWork& w, int p) { return w.apar[static_cast<std::size_t>(p - w.first)]; }
   static double best_of(const ThreadWork& w, int p) { return w.best[static_cast<std::size_t>(p - w.first)]; }
@@ -458,7 +461,7 @@ class Rbpf {
   /// first factors of eq. 25), child index p * per + j.
   template <class Emit>
   void for_each_child(int p, ThreadWork& w, Emit emit) {
-    const double base = logw_[static_cast<std::size_t>(p)] - logw_shift_;
+    const double base = normalised_logw(p);
     int j = 0;
     enumerate_offspring(factors(w, p), static_cast<std::uint64_t>(per_parent_), w.bfw,
                         [&](std::uint64_t key, double s) { emit(j++, key, base + s); });
@@ -492,8 +495,7 @@ class Rbpf {
   void offer_pruned(int p, ThreadWork& w, const double& cut, Offer& offer) {
     const int u0 = p * per_parent_;
     enumerate_above(
-        factors(w, p), logw_[static_cast<std::size_t>(p)] - logw_shift_, pow_nz_.data(), w.opt.data(),
-        [&] { return cut; },
+        factors(w, p), normalised_logw(p), pow_nz_.data(), w.opt.data(), [&] { return cut; },
         [&](std::uint64_t key, double weight) {
           offer(ChildRecord{weight, u0 + static_cast<int>(key), p, key});
         });
@@ -712,7 +714,7 @@ class Rbpf {
   void parent_bounds(int p, long k, ThreadWork& w) {
     MatX& A = factors(w, p);
     parent_factors(p, k, w, A);
-    const double bp = (logw_[static_cast<std::size_t>(p)] - logw_shift_) + A.rowwise().maxCoeff().sum();
+    const double bp = normalised_logw(p) + A.rowwise().maxCoeff().sum();
     const auto slot = static_cast<std::size_t>(p - w.first);
     w.best[slot] = bp;
     // Three of p's children with known weights: the best, and the best with the anchor of the smallest
@@ -867,6 +869,12 @@ class Rbpf {
     publish();  // final: the selection filters with it
   }
 
+  /// xpred_[u] = F x and its leading components xlead_[u] (the neighbour sweep's inputs).
+  void set_predicted(std::size_t u, const State& x) {
+    xpred_[u].noalias() = motion_.F() * x;
+    xlead_[u] = xpred_[u].template head<kLead>();
+  }
+
   /// Chunks of the neighbour sweep (reordered region, phase A), claimed at run time: 1/8 of the pair tests
   /// each.
   static constexpr int kSweepChunks = 8;
@@ -878,11 +886,8 @@ class Rbpf {
   /// the same or adjacent cells, since |dx_0| <= ||dx|| < d_min <= w.
   void prepare_sweep(double d_min) {
     if (!xpred_ready_)
-      for (int p = 0; p < count_; ++p) {
-        const auto u = static_cast<std::size_t>(p);
-        xpred_[u].noalias() = motion_.F() * mean_[u];
-        xlead_[u] = xpred_[u].template head<kLead>();
-      }
+      for (int p = 0; p < count_; ++p)
+        set_predicted(static_cast<std::size_t>(p), mean_[static_cast<std::size_t>(p)]);
     double lo = kInf, hi = -kInf;
     for (int p = 0; p < count_; ++p) {
       const double x = xlead_[static_cast<std::size_t>(p)][0];
@@ -1084,8 +1089,7 @@ class Rbpf {
     for (int i = b; i < e; ++i) {
       const auto u = static_cast<std::size_t>(i);
       nkey_[u] = sel_order_[u].key;
-      xpred_[u].noalias() = motion_.F() * nmean_[u];
-      xlead_[u] = xpred_[u].template head<kLead>();
+      set_predicted(u, nmean_[u]);
       m.mmax = std::max(m.mmax, nlogw_[u]);
     }
     if (m.mmax > -kInf)
@@ -1346,7 +1350,6 @@ class Rbpf {
   /// here instead of making it (the same function on the same inputs, so the same result bit for bit); a
   /// child that is not kept, or that another thread's chunk holds, only cost this thread its idle time.
   void speculate(int th, ThreadWork& w, double t, unsigned gen) {
-    w.nspec = 0;
     const auto n = std::min<std::size_t>(w.crec.size(), kMaxSpeculated);
     if (n == 0) return;
     w.spec_rec.assign(w.crec.begin(), w.crec.end());
