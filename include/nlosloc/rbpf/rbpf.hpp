@@ -185,7 +185,7 @@ class Rbpf {
       w->known.assign(3 * static_cast<std::size_t>(M), 0.0);
       if (th > 0 && options.variant == RbpfVariant::kReordered) {  // speculate runs on the other threads only
         w->spec.resize(static_cast<std::size_t>(kMaxSpeculated));
-        w->spec_rec.reserve(static_cast<std::size_t>(M));
+        w->spec_rec.resize(static_cast<std::size_t>(kMaxSpeculated));
       }
       if (options.variant == RbpfVariant::kReordered) {
         w->sub.reserve(cap);
@@ -376,7 +376,7 @@ class Rbpf {
     int first = 0;
     std::vector<MatX> apar;  // factors A (B x N_z)
     std::vector<double> best, known;
-    // speculate: the children updated ahead of the bank (by decreasing index) and a scratch copy of crec
+    // speculate: the children updated ahead of the bank (by decreasing index) and the candidates it takes
     std::vector<Speculated> spec;
     int nspec = 0;
     std::vector<ChildRecord> spec_rec;
@@ -1350,13 +1350,11 @@ class Rbpf {
   /// here instead of making it (the same function on the same inputs, so the same result bit for bit); a
   /// child that is not kept, or that another thread's chunk holds, only cost this thread its idle time.
   void speculate(int th, ThreadWork& w, double t, unsigned gen) {
-    const auto n = std::min<std::size_t>(w.crec.size(), kMaxSpeculated);
-    if (n == 0) return;
-    w.spec_rec.assign(w.crec.begin(), w.crec.end());
-    auto higher = [](const ChildRecord& a, const ChildRecord& b) { return a.idx > b.idx; };
-    const auto mid = w.spec_rec.begin() + static_cast<std::ptrdiff_t>(n);
-    std::nth_element(w.spec_rec.begin(), mid - 1, w.spec_rec.end(), higher);
-    std::sort(w.spec_rec.begin(), mid, higher);
+    // the kMaxSpeculated highest indices, highest first, copied without the rest of crec
+    const auto n = static_cast<std::size_t>(
+        std::partial_sort_copy(w.crec.begin(), w.crec.end(), w.spec_rec.begin(), w.spec_rec.end(),
+                               [](const ChildRecord& a, const ChildRecord& b) { return a.idx > b.idx; }) -
+        w.spec_rec.begin());
     auto& ker = *threads_.kernels[static_cast<std::size_t>(th)];
     int last = -1;
     CholeskyStatus pst = CholeskyStatus::kOk;
