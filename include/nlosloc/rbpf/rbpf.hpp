@@ -691,11 +691,8 @@ class Rbpf {
   }
 
   /// The i-th kept child (select_kept's order) for the UKF bank.
-  BankChild kept_child(int i) const {
-    const auto u = static_cast<std::size_t>(i);
-    const ChildRecord& r = sel_order_[u];
-    return BankChild{r.parent, r.logw, r.key, r.idx};
-  }
+  BankChild kept_child(int i) const { return bank_child(sel_order_[static_cast<std::size_t>(i)]); }
+  static BankChild bank_child(const ChildRecord& r) { return BankChild{r.parent, r.logw, r.key, r.idx}; }
 
   /// True when parent p has a neighbour within d_min (set by any thread's sweep this step).
   bool is_near(int p) const {
@@ -1362,8 +1359,7 @@ class Rbpf {
       const ChildRecord& r = w.spec_rec[i];
       Speculated& s = w.spec[static_cast<std::size_t>(w.nspec)];
       s.idx = r.idx;
-      s.ok = update_child(ker, w, BankChild{r.parent, r.logw, r.key, r.idx}, t, last, pst, s.x, s.P, s.logw,
-                          s.status);
+      s.ok = update_child(ker, w, bank_child(r), t, last, pst, s.x, s.P, s.logw, s.status);
       ++w.nspec;
     }
   }

@@ -68,7 +68,7 @@ class SpinFlag {
  public:
   void publish(unsigned g) { gen_.store(g, std::memory_order_release); }
   void wait(unsigned g) const {
-    for (int i = 0; gen_.load(std::memory_order_acquire) != g; ++i) detail::spin_relax(i);
+    for (int i = 0; !ready(g); ++i) detail::spin_relax(i);
   }
   /// True once g is published (acquire: the data written before it may then be read); never waits.
   bool ready(unsigned g) const { return gen_.load(std::memory_order_acquire) == g; }
