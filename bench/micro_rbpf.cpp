@@ -129,6 +129,7 @@ BENCHMARK(BM_RbpfPaired)
     ->ArgNames({"reordered", "M", "augmented", "block"})
     ->Args({1, 128, 0, 64})
     ->Args({1, 128, 1, 16})
+    ->Args({0, 2, 0, 64})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 #endif

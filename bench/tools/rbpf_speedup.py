@@ -22,7 +22,12 @@ import statistics
 import subprocess
 import sys
 
-DEFAULT_CASES = ["reordered:1/M:128/augmented:0", "reordered:1/M:128/augmented:1"]
+# rRBPF-128 (additive, augmented) and cRBPF-128 (M = 2 propagated, 128 UKF runs; additive)
+DEFAULT_CASES = [
+    "reordered:1/M:128/augmented:0",
+    "reordered:1/M:128/augmented:1",
+    "reordered:0/M:2/augmented:0",
+]
 # BM_RbpfPaired's registered block lengths (bench/micro_rbpf.cpp)
 PAIRED_BLOCK = {"0": 64, "1": 16}
 

@@ -423,7 +423,8 @@ void bind_rbpf(py::module_& m) {
         py::arg("num_particles"), "d_min = sigma^2 / (10 M), Huerta eq. (31).");
   m.def(
       "merge_greedy",
-      [](const std::vector<std::uint64_t>& keys, const MatX& means, VecX logw, double d_min) {
+      [](const std::vector<std::uint64_t>& keys, const MatX& means, VecX logw, double d_min,
+         bool with_pairs) -> py::tuple {
         NLOSLOC_ENSURE(
             static_cast<Eigen::Index>(keys.size()) == means.cols() && logw.size() == means.cols(),
             "keys, means, logw: expected one key, one mean column and one log weight per particle");
@@ -433,14 +434,26 @@ void bind_rbpf(py::module_& m) {
             "logw: expected log weights that are finite or -inf (no NaN, no +inf)");
         nlosloc::detail::ensure_nonnegative(d_min, "d_min");
         MergeWorkspace ws;
+        std::vector<int> pairs;
         const int n = merge_greedy(
             keys.data(), logw.data(), static_cast<int>(keys.size()),
-            [&](int a, int b) { return (means.col(a) - means.col(b)).norm() < d_min; }, ws);
-        return py::make_tuple(logw, n);
+            [&](int a, int b) { return (means.col(a) - means.col(b)).norm() < d_min; }, ws,
+            [&](int a, int b, double) {
+              pairs.push_back(a);
+              pairs.push_back(b);
+            });
+        if (!with_pairs) return py::make_tuple(logw, n);
+        Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> P(n, 2);
+        for (int i = 0; i < n; ++i) {
+          P(i, 0) = pairs[static_cast<std::size_t>(2 * i)];
+          P(i, 1) = pairs[static_cast<std::size_t>(2 * i + 1)];
+        }
+        return py::make_tuple(logw, n, P);
       },
-      py::arg("keys"), py::arg("means"), py::arg("logw"), py::arg("d_min"),
+      py::arg("keys"), py::arg("means"), py::arg("logw"), py::arg("d_min"), py::arg("with_pairs") = false,
       "Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, "
-      "number absorbed).");
+      "number absorbed), and with with_pairs=True also an (absorbed, 2) int array of (absorber, absorbed) "
+      "pairs in merge order (each absorbed particle once; its weight moved is its input weight).");
   m.def(
       "systematic_resample",
       [](const VecX& w, int M, double u0) {

@@ -47,15 +47,27 @@ TEST_CASE("merge rule on hand-built particle sets (eqs. 29-30)", "[rbpf][merge]"
   std::vector<double> lw(w.size());
   for (std::size_t i = 0; i < w.size(); ++i) lw[i] = std::log(w[i]);
   MergeWorkspace ws;
+  std::vector<std::pair<int, int>> pairs;
+  std::vector<double> moved;
   const int n = merge_greedy(
       key.data(), lw.data(), 5,
       [&](int a, int b) {
         return std::abs(x[static_cast<std::size_t>(a)] - x[static_cast<std::size_t>(b)]) < 0.1;
       },
-      ws);
+      ws,
+      [&](int a, int b, double lwb) {
+        pairs.emplace_back(a, b);
+        moved.push_back(std::exp(lwb));
+      });
   // heaviest of key 0 is particle 1 (0.3): absorbs 0 (d = 0.05) and 4 (d = 0.04); not 2 (d = 0.45);
   // particle 3 has another situation (eq. 29: infinite distance) although it is close.
   CHECK(n == 2);
+  // the absorb callback: each absorbed particle once, in visiting order (key 0 by weight: 1, 2, 4, 0),
+  // with its own weight
+  CHECK(pairs == std::vector<std::pair<int, int>>{{1, 4}, {1, 0}});
+  REQUIRE(moved.size() == 2);
+  CHECK_THAT(moved[0], WithinAbs(0.15, 1e-15));
+  CHECK_THAT(moved[1], WithinAbs(0.1, 1e-15));
   CHECK_THAT(std::exp(lw[1]), WithinAbs(0.55, 1e-14));
   CHECK(lw[0] == kNegInf);
   CHECK(lw[4] == kNegInf);
@@ -477,6 +489,42 @@ TEST_CASE("classical RBPF weights equal a brute-force enumeration (B=2, N_z=2, t
         }
       kept = check_pruned_to_two(f, cand);
     }
+  }
+}
+
+TEST_CASE(
+    "classical RBPF with merging: estimate, covariance and situation probabilities are the mixture "
+    "of the merged children (eqs. 27-30)",
+    "[rbpf]") {
+  // M = 64 keeps every child (4 per particle over three steps), so after a step the particles are exactly
+  // the merged children; a wide merge threshold makes the merge move weight (checked below).
+  const Tiny tc;
+  for (int threads : {1, 2}) {
+    RbpfOptions opt;
+    opt.variant = RbpfVariant::kClassical;
+    opt.num_particles = 64;
+    opt.merge_threshold = 8.0;
+    opt.threads = threads;
+    Rbpf<ConstantVelocity2> f(tc.motion, tc.st, tc.proc, tc.q, tc.g, opt);
+    int merged = 0;
+    for (int k = 0; k < 3; ++k) {
+      merged += f.step(tc.ys[static_cast<std::size_t>(k)], tc.os[static_cast<std::size_t>(k)]).merged;
+      const VecX w = f.weights();
+      Vec<4> est = Vec<4>::Zero();
+      for (int i = 0; i < f.num_particles(); ++i) est += w(i) * f.particle_mean(i);  // eq. (28)
+      Mat<4, 4> cov = Mat<4, 4>::Zero();
+      MatX prob = MatX::Zero(2, 2);
+      for (int i = 0; i < f.num_particles(); ++i) {
+        const Vec<4> d = f.particle_mean(i) - est;
+        cov += w(i) * (f.particle_cov(i) + d * d.transpose());  // eq. (27)
+        const VecXi s = f.particle_situation(i);
+        for (int b = 0; b < 2; ++b) prob(b, s(b)) += w(i);
+      }
+      CHECK((f.estimate() - est).cwiseAbs().maxCoeff() < 1e-9);
+      CHECK((f.covariance() - cov).cwiseAbs().maxCoeff() < 1e-9 * cov.cwiseAbs().maxCoeff());
+      CHECK((f.situation_probabilities() - prob).cwiseAbs().maxCoeff() < 1e-12);
+    }
+    CHECK(merged > 0);
   }
 }
 

@@ -134,6 +134,13 @@ def test_merge_and_resampling_helpers():
     new, n = rbpf.merge_greedy([0, 0, 0, 1, 0], means, logw, 0.1)
     assert n == 2
     np.testing.assert_allclose(np.exp(new), [0.0, 0.55, 0.2, 0.25, 0.0], atol=1e-14)
+    # the pairs in merge order: particle 1 (heaviest of key 0) absorbs 4, then 0
+    new2, n2, pairs = rbpf.merge_greedy([0, 0, 0, 1, 0], means, logw, 0.1, with_pairs=True)
+    assert n2 == 2
+    np.testing.assert_array_equal(new2, new)
+    np.testing.assert_array_equal(pairs, [[1, 4], [1, 0]])
+    none = rbpf.merge_greedy([0, 1], np.zeros((1, 2)), np.log([0.5, 0.5]), 1.0, with_pairs=True)
+    assert none[1] == 0 and none[2].shape == (0, 2)
     assert rbpf.default_merge_threshold(12.8, 128) == pytest.approx(0.01)
     w = np.array([0.05, 0.4, 0.1, 0.3, 0.15])
     rng = np.random.default_rng(0)

@@ -259,10 +259,16 @@ inline void merge_order(const std::uint64_t* keys, const double* logw, int n, Me
   }
   sort_groups(N, ws, heavier);
 }
+/// Absorb callback of merge_group that does nothing.
+struct NoAbsorb {
+  void operator()(int, int, double) const {}
+};
+
 /// The greedy merge of one group (eqs. 29-30): positions [g0, g1) in visiting order, at(i) the particle
-/// at position i; each particle not yet absorbed absorbs every later one within d_min. Returns the count.
-template <class At, class Close>
-int merge_group(int g0, int g1, At at, double* logw, Close& close) {
+/// at position i; each particle not yet absorbed absorbs every later one within d_min, calling
+/// absorb(a, b, logw_b) first (b has absorbed nothing yet: logw_b is its own weight). Returns the count.
+template <class At, class Close, class Absorb = NoAbsorb>
+int merge_group(int g0, int g1, At at, double* logw, Close& close, Absorb&& absorb = {}) {
   constexpr double kNegInf = -std::numeric_limits<double>::infinity();
   int absorbed = 0;
   for (int i = g0; i + 1 < g1; ++i) {
@@ -271,6 +277,7 @@ int merge_group(int g0, int g1, At at, double* logw, Close& close) {
     for (int j = i + 1; j < g1; ++j) {
       const int b = at(j);
       if (logw[b] == kNegInf || !close(a, b)) continue;
+      absorb(a, b, logw[b]);
       logw[a] = log_add(logw[a], logw[b]);  // eq. (30): w_a <- w_a + w_b
       logw[b] = kNegInf;                    //            w_b <- 0
       ++absorbed;
@@ -282,9 +289,12 @@ int merge_group(int g0, int g1, At at, double* logw, Close& close) {
 
 /// Greedy merge (eqs. 29-30) of n particles with situation keys `keys`, log weights `logw` (modified in
 /// place: absorbed particles get -inf). close(a, b) says whether ||x_a - x_b|| < d_min (only asked for
-/// particles with equal keys; eq. 29 makes the distance infinite otherwise). Returns the number absorbed.
-template <class Close>
-int merge_greedy(const std::uint64_t* keys, double* logw, int n, Close&& close, MergeWorkspace& ws) {
+/// particles with equal keys; eq. 29 makes the distance infinite otherwise). absorb(a, b, logw_b) is
+/// called as a absorbs b, before the transfer: each absorbed particle once, with its own weight (the
+/// classical RBPF moves its moments with it). Returns the number absorbed.
+template <class Close, class Absorb = detail::NoAbsorb>
+int merge_greedy(const std::uint64_t* keys, double* logw, int n, Close&& close, MergeWorkspace& ws,
+                 Absorb&& absorb = {}) {
   if (n <= 0) return 0;
   detail::merge_order(keys, logw, n, ws);  // by key, heaviest first within a group (ties by index)
   int absorbed = 0;
@@ -300,7 +310,7 @@ int merge_greedy(const std::uint64_t* keys, double* logw, int n, Close&& close, 
     }
     absorbed += detail::merge_group(
         static_cast<int>(g0), static_cast<int>(g1),
-        [&](int i) { return ws.order[static_cast<std::size_t>(i)]; }, logw, close);
+        [&](int i) { return ws.order[static_cast<std::size_t>(i)]; }, logw, close, absorb);
     g0 = g1;
   }
   return absorbed;

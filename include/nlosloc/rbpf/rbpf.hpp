@@ -367,7 +367,7 @@ class Rbpf {
     MergeWorkspace mws;
     int merged = 0;          // children absorbed by this thread's merge
     BestFirstWorkspace bfw;  // bounded enumeration (reserved at construction when it is used)
-    MatX mprob;              // accumulate_moments: situation weights of the chunk being summed
+    MatX mprob;              // chunk_moments: situation weights of the chunk being summed
     // The factors, best child weight and three known child weights of the thread's own parents, parent p
     // in slot p - first (parent_bounds): written and read by this thread only. In arrays shared by the
     // threads and indexed by parent, the 2-thread factors took 28.0-29.8 us of work per step against
@@ -383,7 +383,7 @@ class Rbpf {
   };
 
   /// Weighted sums of one bank chunk's updated particles relative to its largest log weight mmax
-  /// (accumulate_moments): m0 = sum of w, m1 = sum of w (x - c), m2 = sum of w (P + (x - c)(x - c)^T),
+  /// (chunk_moments): m0 = sum of w, m1 = sum of w (x - c), m2 = sum of w (P + (x - c)(x - c)^T),
   /// mprob = sum of w per anchor and condition. A line of its own: the threads write chunks side by side.
   struct alignas(64) ChunkMoments {
     double mmax = 0.0, m0 = 0.0;
@@ -501,16 +501,22 @@ class Rbpf {
         });
   }
 
-  /// Classical order: every child of every parent into off_*, parents split over the pool.
+  /// Classical order: every child of every parent into off_*, parents split over the pool from
+  /// kMinParallel parents on. cRBPF-128 expands M = 2 parents: on two threads the hand-off cost more than
+  /// the work (1.67 us against 0.80 on one thread, H2, an instrumented copy, 2026-12-04).
   int expand_all(long k) {
-    threads_.pool->parallel_for(count_, [&](int pb, int pe, int th) {
+    auto expand = [&](int pb, int pe, int th) {
       ThreadWork& w = *threads_.work[static_cast<std::size_t>(th)];
       w.first = pb;
       for (int p = pb; p < pe; ++p) {
         parent_factors(p, k, w, factors(w, p));
         emit_children(p, w);
       }
-    });
+    };
+    if (active_threads(count_) > 1)
+      threads_.pool->parallel_for(count_, expand);
+    else
+      expand(0, count_, 0);
     return count_ * per_parent_;
   }
 
@@ -1037,29 +1043,13 @@ class Rbpf {
     }
     xpred_ready_ = false;
     const int ns = info.ukf_runs;
-    // eq. (33): w_t = w_t|t-1 p(y_t | s_1:t, y_1:t-1), normalised (log-sum-exp over the chunks' sums, in
-    // chunk order: the result does not depend on which thread ran which chunk)
-    double z = -kInf;
-    for (int c = 0; c < nchunks_; ++c)
-      if (const ChunkMoments& m = csum_[static_cast<std::size_t>(c)]; m.m0 > 0.0)
-        z = log_add(z, m.mmax + std::log(m.m0));
-    if (!std::isfinite(z))
-      nlosloc::detail::throw_numerical_error("Rbpf.step: every UKF update failed or had zero likelihood");
+    // eq. (33): w_t = w_t|t-1 p(y_t | s_1:t, y_1:t-1), normalised
+    const double z = chunk_log_total();
     info.log_likelihood = z;
-    State d = State::Zero();
-    Cov m2 = Cov::Zero();
-    prob_.setZero();
-    for (int c = 0; c < nchunks_; ++c) {
-      const ChunkMoments& m = csum_[static_cast<std::size_t>(c)];
-      if (!(m.m0 > 0.0)) continue;
-      const double f = std::exp(m.mmax - z);
-      d += f * m.m1;
-      m2 += f * m.m2;
-      prob_ += f * m.mprob;
-    }
-    est_ = centre_ + d;                 // eq. (28)
-    est_cov_ = m2 - d * d.transpose();  // eq. (27), moment matched
-    nlosloc::detail::symmetrize(est_cov_);
+    State d;
+    Cov m2;
+    chunk_mixture(z, d, m2);
+    set_mixture(d, m2);
     std::swap(mean_, nmean_);
     std::swap(cov_, ncov_);
     std::swap(key_, nkey_);
@@ -1074,39 +1064,87 @@ class Rbpf {
   }
 
   /// Reordered summary of bank chunk c, updated particles [b, e): keys, next predicted means, and the
-  /// chunk's weighted sums (ChunkMoments). The situation weights are summed in the thread's scratch and
-  /// stored once (csum_ entries' matrices lie side by side on the heap).
+  /// chunk's weighted sums (chunk_moments).
   void accumulate_moments(int c, int b, int e, ThreadWork& w) {
+    for (int i = b; i < e; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      nkey_[u] = sel_order_[u].key;
+      set_predicted(u, nmean_[u]);
+    }
+    chunk_moments(c, b, e, nlogw_.data(), nmean_.data(), ncov_.data(), nkey_.data(), w);
+  }
+
+  /// ChunkMoments of bank chunk c over the updated particles [b, e) (log weights, means, covariances and
+  /// keys in these arrays) around centre_, by the thread that updated them: no core reads another's
+  /// particles to sum them. The situation weights are summed in the thread's scratch and stored once
+  /// (csum_ entries' matrices lie side by side on the heap).
+  void chunk_moments(int c, int b, int e, const double* logw, const State* mean, const Cov* cov,
+                     const std::uint64_t* key, ThreadWork& w) {
     ChunkMoments& m = csum_[static_cast<std::size_t>(c)];
     m.mmax = -kInf;
     m.m0 = 0.0;
     m.m1.setZero();
     m.m2.setZero();
     w.mprob.setZero();
-    for (int i = b; i < e; ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      nkey_[u] = sel_order_[u].key;
-      set_predicted(u, nmean_[u]);
-      m.mmax = std::max(m.mmax, nlogw_[u]);
-    }
+    for (int i = b; i < e; ++i) m.mmax = std::max(m.mmax, logw[i]);
     if (m.mmax > -kInf)
       for (int i = b; i < e; ++i) {
-        const auto u = static_cast<std::size_t>(i);
-        const double wi = std::exp(nlogw_[u] - m.mmax);
+        const double wi = std::exp(logw[i] - m.mmax);
         if (wi == 0.0) continue;
-        const State dx = nmean_[u] - centre_;
+        const State dx = mean[i] - centre_;
         m.m0 += wi;
         m.m1 += wi * dx;
-        m.m2 += wi * (ncov_[u] + dx * dx.transpose());
-        add_situation_weight(nkey_[u], wi, w.mprob);
+        m.m2 += wi * (cov[i] + dx * dx.transpose());
+        add_situation_weight(key[i], wi, w.mprob);
       }
     m.mprob = w.mprob;
   }
 
+  /// Log of the bank children's summed weights (eq. 25 / 33 normaliser, the step's log-likelihood), from
+  /// the chunks' sums in chunk order: the result does not depend on which thread ran which chunk.
+  double chunk_log_total() const {
+    double z = -kInf;
+    for (int c = 0; c < nchunks_; ++c)
+      if (const ChunkMoments& m = csum_[static_cast<std::size_t>(c)]; m.m0 > 0.0)
+        z = log_add(z, m.mmax + std::log(m.m0));
+    if (!std::isfinite(z))
+      nlosloc::detail::throw_numerical_error("Rbpf.step: every UKF update failed or had zero likelihood");
+    return z;
+  }
+
+  /// Centred sums of the bank's children with weights normalised by z, in chunk order: d = sum w (x - c),
+  /// m2 = sum w (P + (x - c)(x - c)^T); prob_ = per-anchor situation probabilities.
+  void chunk_mixture(double z, State& d, Cov& m2) {
+    d.setZero();
+    m2.setZero();
+    prob_.setZero();
+    for (int c = 0; c < nchunks_; ++c) {
+      const ChunkMoments& m = csum_[static_cast<std::size_t>(c)];
+      if (!(m.m0 > 0.0)) continue;
+      const double f = std::exp(m.mmax - z);
+      d += f * m.m1;
+      m2 += f * m.m2;
+      prob_ += f * m.mprob;
+    }
+  }
+
+  /// Estimate and mixture covariance from chunk_mixture's centred sums.
+  void set_mixture(const State& d, const Cov& m2) {
+    est_ = centre_ + d;                 // eq. (28)
+    est_cov_ = m2 - d * d.transpose();  // eq. (27), moment matched
+    nlosloc::detail::symmetrize(est_cov_);
+  }
+
+  /// The classical step (Table IV): every child's UKF, each bank chunk summed by the thread that updated
+  /// it (chunk_moments), then the merge, which moves the sums with the weights it moves, and the prune.
+  /// Summed after the bank on the calling thread instead, cRBPF-128 on H2 spent 8.9 us of a 48.4 us step
+  /// on one thread and 10.3 of 35.3 on two in the log-sum-exp, merge and sums (an instrumented copy,
+  /// 2026-12-04), the latter reading every child the worker had written.
   void step_classical(long k, double t, RbpfStepInfo& info) {
     const int n = expand_all(k);
     info.offspring = n;
     info.ukf_runs = n;
+    centre_.noalias() = motion_.F() * est_;  // near the new estimate: the raw second moment keeps precision
     // Every child's UKF (IV.1), in parent order; eq. (25): add log p(y_t | s_1:t, y_1:t-1).
     run_bank(
         n, t,
@@ -1116,29 +1154,37 @@ class Rbpf {
         },
         [&](int i) -> State& { return off_mean_[static_cast<std::size_t>(i)]; },
         [&](int i) -> Cov& { return off_cov_[static_cast<std::size_t>(i)]; }, off_logw_.data(), info,
-        [](int, int, int, ThreadWork&) {});
-    Eigen::Map<VecX> lw(off_logw_.data(), n);
-    const double z = log_sum_exp(lw);
-    if (!std::isfinite(z))
-      nlosloc::detail::throw_numerical_error("Rbpf.step: every UKF update failed or had zero likelihood");
-    lw.array() -= z;
+        [&](int c, int b, int e, ThreadWork& w) {
+          chunk_moments(c, b, e, off_logw_.data(), off_mean_.data(), off_cov_.data(), off_key_.data(), w);
+        });
+    const double z = chunk_log_total();
     info.log_likelihood = z;
+    Eigen::Map<VecX> lw(off_logw_.data(), n);
+    lw.array() -= z;
+    // eqs. (27)-(28) over all children, after the merge
+    State d;
+    Cov m2;
+    chunk_mixture(z, d, m2);
     if (opt_.merge) {
-      const double d = info.merge_threshold;
+      const double dmin = info.merge_threshold;
       info.merged = merge_greedy(
           off_key_.data(), off_logw_.data(), n,
           [&](int a, int b) {
             return (off_mean_[static_cast<std::size_t>(a)] - off_mean_[static_cast<std::size_t>(b)]).norm() <
-                   d;  // eq. (29)
+                   dmin;  // eq. (29)
           },
-          mws_);
+          mws_,
+          [&](int a, int b, double lwb) {
+            // eq. (30) moves w_b onto child a, whose mean and covariance stay: the sums of eqs. (27)-(28)
+            // move with it (same key, so the situation probabilities do not change)
+            const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
+            const double wb = std::exp(lwb);
+            const State da = off_mean_[ua] - centre_, db = off_mean_[ub] - centre_;
+            d += wb * (da - db);
+            m2 += wb * ((off_cov_[ua] + da * da.transpose()) - (off_cov_[ub] + db * db.transpose()));
+          });
     }
-    // eq. (28) and the mixture (27) over all children
-    summarise(
-        n, [&](int i) -> const State& { return off_mean_[static_cast<std::size_t>(i)]; },
-        [&](int i) -> const Cov& { return off_cov_[static_cast<std::size_t>(i)]; },
-        [&](int i) { return off_key_[static_cast<std::size_t>(i)]; },
-        [&](int i) { return off_logw_[static_cast<std::size_t>(i)]; });
+    set_mixture(d, m2);
     select_top(off_logw_.data(), n, opt_.num_particles, sel_);
     const int ns = static_cast<int>(sel_.size());
     double zs = -std::numeric_limits<double>::infinity();
@@ -1378,30 +1424,6 @@ class Rbpf {
     }
   }
 
-  /// Estimate (eq. 28), moment-matched mixture covariance (eq. 27) and per-anchor situation probabilities
-  /// of n weighted Gaussians (log weights normalised up to a common constant).
-  template <class MeanAt, class CovAt, class KeyAt, class LogwAt>
-  void summarise(int n, MeanAt mean_at, CovAt cov_at, KeyAt key_at, LogwAt logw_at) {
-    double z = -std::numeric_limits<double>::infinity();
-    for (int i = 0; i < n; ++i) z = log_add(z, logw_at(i));
-    est_.setZero();
-    prob_.setZero();
-    for (int i = 0; i < n; ++i) {
-      const double w = std::exp(logw_at(i) - z);
-      if (w == 0.0) continue;
-      est_ += w * mean_at(i);  // eq. (28)
-      add_situation_weight(key_at(i), w, prob_);
-    }
-    est_cov_.setZero();
-    for (int i = 0; i < n; ++i) {
-      const double w = std::exp(logw_at(i) - z);
-      if (w == 0.0) continue;
-      const State d = mean_at(i) - est_;
-      est_cov_ += w * (cov_at(i) + d * d.transpose());  // eq. (27), second moment
-    }
-    nlosloc::detail::symmetrize(est_cov_);
-  }
-
   Motion motion_;
   Meas meas_;
   situation::SightProcess sight_;
@@ -1468,7 +1490,7 @@ class Rbpf {
   };
   std::unique_ptr<Claims> claims_ = std::make_unique<Claims>();
   std::vector<ChunkMoments> csum_;             // each chunk's moments (reordered step)
-  State centre_;                               // c of accumulate_moments
+  State centre_;                               // c of chunk_moments
   int expand_threads_ = 1, bank_threads_ = 1;  // threads of the last expansion / UKF bank
   bool region_failed_ = false;                 // reordered_region: the selection threw (no bank)
   bool xpred_ready_ = false;                   // xpred_ holds F x of the current particles

@@ -483,9 +483,9 @@ def default_merge_threshold(position_variance: typing.SupportsFloat | typing.Sup
     """
     d_min = sigma^2 / (10 M), Huerta eq. (31).
     """
-def merge_greedy(keys: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], d_min: typing.SupportsFloat | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], int]:
+def merge_greedy(keys: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], d_min: typing.SupportsFloat | typing.SupportsIndex, with_pairs: bool = False) -> tuple:
     """
-    Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, number absorbed).
+    Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, number absorbed), and with with_pairs=True also an (absorbed, 2) int array of (absorber, absorbed) pairs in merge order (each absorbed particle once; its weight moved is its input weight).
     """
 def pf_simd_lanes() -> int:
     """
