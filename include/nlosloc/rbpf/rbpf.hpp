@@ -501,23 +501,27 @@ class Rbpf {
         });
   }
 
-  /// Classical order: every child of every parent into off_*, parents split over the pool from
-  /// kMinParallel parents on. cRBPF-128 expands M = 2 parents: on two threads the hand-off cost more than
-  /// the work (1.67 us against 0.80 on one thread, H2, an instrumented copy, 2026-12-04).
+  /// Classical order: every child of every parent into off_*, the parents split evenly over
+  /// active_threads(count_) threads. cRBPF-128 expands M = 2 parents: split over two threads, the hand-off
+  /// cost more than the work (1.67 us against 0.80 on one thread, H2, an instrumented copy, 2026-12-04).
   int expand_all(long k) {
-    auto expand = [&](int pb, int pe, int th) {
+    const int T = active_threads(count_);
+    threads_.pool->parallel_for(T, [&](int th, int, int) {
+      const auto [pb, pe] = even_share(count_, th, T);
       ThreadWork& w = *threads_.work[static_cast<std::size_t>(th)];
       w.first = pb;
       for (int p = pb; p < pe; ++p) {
         parent_factors(p, k, w, factors(w, p));
         emit_children(p, w);
       }
-    };
-    if (active_threads(count_) > 1)
-      threads_.pool->parallel_for(count_, expand);
-    else
-      expand(0, count_, 0);
+    });
     return count_ * per_parent_;
+  }
+
+  /// Thread th's contiguous share [b, e) of n items split evenly over T threads.
+  static std::pair<int, int> even_share(int n, int th, int T) {
+    return {static_cast<int>(static_cast<long long>(n) * th / T),
+            static_cast<int>(static_cast<long long>(n) * (th + 1) / T)};
   }
 
   /// The reordered step (Table V) in one parallel region, phases split by spin barriers (one hand-off
@@ -666,8 +670,7 @@ class Rbpf {
   std::pair<int, int> own_parents(int th, int T) const {
     if (T == 2 && parent_split_ > 0 && parent_split_ < count_)
       return th == 0 ? std::pair<int, int>{0, parent_split_} : std::pair<int, int>{parent_split_, count_};
-    return {static_cast<int>(static_cast<long long>(count_) * th / T),
-            static_cast<int>(static_cast<long long>(count_) * (th + 1) / T)};
+    return even_share(count_, th, T);
   }
 
   /// The kept children: the global top M lies in the union of the threads' top-M lists (merged children
