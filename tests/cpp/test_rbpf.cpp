@@ -210,6 +210,74 @@ TEST_CASE("merge visiting order: the counting-sort grouping of narrow key ranges
   }
 }
 
+TEST_CASE("neighbour grid: every pair closer than d along the coordinate once, few others", "[rbpf][merge]") {
+  using nlosloc::rbpf::detail::LineGrid;
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  // Each case: coordinates and d. Visited pairs must include every finite pair with |dx| < d, none twice.
+  auto check = [&](const std::vector<double>& x, double d, const char* what) {
+    INFO(what);
+    LineGrid g;
+    g.reserve(x.size());
+    g.build(
+        x.size(), [&](std::size_t i) { return x[i]; }, d);
+    std::set<std::pair<int, int>> seen;
+    std::size_t visits = 0;
+    std::vector<int> rows_of(x.size(), 0);
+    for (std::size_t r = 0; r < g.rows(); ++r) {
+      ++rows_of[static_cast<std::size_t>(g.point(r))];
+      CHECK(g.cost(r) >= 1.0);
+      g.for_candidates(r, [&](std::size_t s) {
+        CHECK(s != r);
+        const int a = std::min(g.point(r), g.point(s)), b = std::max(g.point(r), g.point(s));
+        seen.insert({a, b});
+        ++visits;
+      });
+    }
+    CHECK(visits == seen.size());  // no pair twice
+    std::size_t close = 0, finite = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      finite += std::isfinite(x[i]) ? 1 : 0;
+      // a row per finite point when d > 0, none for the others
+      CHECK(rows_of[i] == (std::isfinite(x[i]) && d > 0.0 ? 1 : 0));
+      for (std::size_t j = i + 1; j < x.size(); ++j)
+        if (std::isfinite(x[i]) && std::isfinite(x[j]) && std::abs(x[i] - x[j]) < d) {
+          ++close;
+          CHECK(seen.count({static_cast<int>(i), static_cast<int>(j)}) == 1);
+        }
+    }
+    if (!(d > 0.0)) CHECK(g.rows() == 0);
+    return std::pair<std::size_t, std::size_t>{visits, close};
+  };
+  Rng rng(2026);
+  std::vector<double> uni(300);
+  for (double& v : uni) v = 100.0 * rng.uniform();
+  const auto [v_uni, c_uni] = check(uni, 0.2, "uniform on [0, 100], d = 0.2");
+  CHECK(c_uni > 100);                      // (a case with close pairs)
+  CHECK(v_uni <= 3 * c_uni + uni.size());  // cells about d wide: few pairs beyond the close ones
+  // A tight cluster 50 d wide with far outliers: the spread is 1e9 d, the cells still d wide. The sweep
+  // this replaces put the cluster in one cell and tested all of its 7140 pairs.
+  std::vector<double> clu;
+  for (int i = 0; i < 120; ++i) clu.push_back(5.0 + 0.5 * rng.uniform());
+  clu.push_back(-1e7);
+  clu.push_back(1e7);
+  const auto [v_clu, c_clu] = check(clu, 0.01, "cluster and outliers");
+  CHECK(v_clu <= 3 * c_clu + clu.size());
+  // A chain spaced just below d, from far off the origin: every neighbour pair crosses a cell boundary.
+  std::vector<double> chain;
+  for (int i = 0; i < 200; ++i) chain.push_back(1e6 + i * 0.999999 * 0.37);
+  const auto [v_ch, c_ch] = check(chain, 0.37, "chain");
+  CHECK(c_ch == 199);
+  // d wider than the spread (one cell: every pair), d = 0 and NaN (no pair is closer), non-finite points
+  // (never close to anything, no row), a spread too wide for a double (one cell), no points.
+  check({3.0, 1.0, 2.0, 1.5}, 10.0, "one cell");
+  check({1.0, 1.0, 2.0}, 0.0, "d = 0");
+  check({1.0, 1.0, 2.0}, nan, "d NaN");
+  const auto [v_nf, c_nf] = check({nan, 1.0, inf, 1.05, -inf, 3.0, nan}, 0.1, "non-finite points");
+  CHECK(c_nf == 1);
+  check({-1.7e308, 1.7e308, 0.0, 0.5}, 1.0, "infinite spread");
+  check({}, 1.0, "no points");
+}
+
 TEST_CASE("selection of the M heaviest records equals a full sort, ties by index", "[rbpf][merge]") {
   Rng rng(11);
   std::vector<double> w, tmp;

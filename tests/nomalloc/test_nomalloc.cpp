@@ -206,6 +206,25 @@ TEST_CASE("IUKF, RBPF and PF steps do not allocate", "[nomalloc]") {
     }
 }
 
+TEST_CASE("the RBPF neighbour grid does not allocate after reserve", "[nomalloc]") {
+  // (the RBPF reserves M points once; a step rebuilds the grid for up to M parents)
+  std::vector<double> x(128);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = 0.37 * static_cast<double>(i * i % 97);
+  rbpf::detail::LineGrid g;
+  g.reserve(x.size());
+  long news = 0;
+  {
+    const NoMalloc guard;
+    for (std::size_t n : {std::size_t{128}, std::size_t{5}, std::size_t{0}, std::size_t{128}})
+      for (double d : {0.5, 0.0, 1e9})
+        g.build(
+            n, [&](std::size_t i) { return x[i]; }, d);
+    news = NoMalloc::news();
+  }
+  CHECK(news == 0);
+  CHECK(g.rows() == 128);  // (the last build: every point in one cell)
+}
+
 TEST_CASE("Ke-Wu trackers: QP-bias EKF (both bias references) and bias-augmented EKF do not allocate",
           "[nomalloc]") {
   // K1 geometry (anchors of scenarios.md K1), a mobile at (1000, 1000), anchor 2 NLOS by 400 m so the

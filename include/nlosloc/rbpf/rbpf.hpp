@@ -152,11 +152,9 @@ class Rbpf {
     key_count_ = total;
     sel_.reserve(cap);
     if (options.variant == RbpfVariant::kClassical) mws_.reserve(cap);
-    byx_.reserve(static_cast<std::size_t>(M));
+    grid_.reserve(static_cast<std::size_t>(M));
     slead_.reserve(static_cast<std::size_t>(M));
     sweep_split_.assign(static_cast<std::size_t>(kSweepChunks) + 1, 0);
-    cell_.reserve(static_cast<std::size_t>(M) + 1);
-    pcell_.assign(static_cast<std::size_t>(M), 0);
     // Each thread allocates its own kernel and scratch, from its own glibc arena (Threads frees them the
     // same way). Allocated in turn by the caller, one thread's buffers could share cache lines with the
     // next thread's; H2 rRBPF-128, interleaved 1/2-thread pairs: speed-up 1.44-1.47 before, 1.46-1.50 after.
@@ -886,53 +884,25 @@ class Rbpf {
   static constexpr int kSweepChunks = 8;
 
   /// Set-up of the neighbour sweep (thread 0, before it sweeps): the predicted means F x_p and their leading
-  /// components (unless the last UKF bank left them), the parents bucketed by their first state component
-  /// into cells of width w >= d_min (a counting sort, linear: a comparison sort of the parents cost more than
-  /// the whole sweep), and a fresh stamp for adj_ (no clearing per step). Two parents within d_min lie in
-  /// the same or adjacent cells, since |dx_0| <= ||dx|| < d_min <= w.
+  /// components (unless the last UKF bank left them), the parents in a grid along the first component
+  /// (detail::LineGrid: cells of width about d_min, linear; a comparison sort of the parents cost more than
+  /// the whole sweep), and a fresh stamp for adj_ (no clearing per step).
   void prepare_sweep(double d_min) {
     if (!xpred_ready_)
       for (int p = 0; p < count_; ++p)
         set_predicted(static_cast<std::size_t>(p), mean_[static_cast<std::size_t>(p)]);
-    double lo = kInf, hi = -kInf;
-    for (int p = 0; p < count_; ++p) {
-      const double x = xlead_[static_cast<std::size_t>(p)][0];
-      lo = std::min(lo, x);
-      hi = std::max(hi, x);
-    }
-    // At most count_ cells: wider cells when the parents spread over more than count_ x d_min.
-    const double width = std::max(d_min, (hi - lo) / count_);
-    const int ncell =
-        width > 0.0 ? static_cast<int>(std::min<double>(count_, std::floor((hi - lo) / width) + 1.0)) : 1;
-    for (int p = 0; p < count_; ++p) {
-      const double x = xlead_[static_cast<std::size_t>(p)][0];
-      const double r = width > 0.0 ? (x - lo) / width : 0.0;
-      pcell_[static_cast<std::size_t>(p)] =
-          r > 0.0 ? static_cast<int>(std::min<double>(r, ncell - 1)) : 0;  // NaN: cell 0
-    }
-    cell_.resize(static_cast<std::size_t>(ncell) + 1);
-    byx_.resize(static_cast<std::size_t>(count_));
-    detail::counting_scatter(
-        static_cast<std::size_t>(count_), static_cast<std::size_t>(ncell), cell_.data(),
-        [&](std::size_t p) { return pcell_[p]; },
-        [&](std::size_t p, std::size_t pos) {
-          byx_[pos] = {pcell_[p], static_cast<int>(p)};
-        });
+    grid_.build(
+        static_cast<std::size_t>(count_), [&](std::size_t p) { return xlead_[p][0]; }, d_min);
+    const std::size_t rows = grid_.rows();
     // The leading components in sweep order: the threads then read them in sequence, from this core, and
     // the full predicted means (a line each, written by the cores that ran the bank) only for the pairs
     // that pass them. With the full means copied here instead, the worker's sweep took 4.7 us per step
     // against 2.2 for thread 0's (nlosloc-rbpf-phases --pin 0,1, rRBPF-128 on H2, 2026-12-04).
-    slead_.resize(static_cast<std::size_t>(count_));
-    for (std::size_t i = 0; i < byx_.size(); ++i)
-      slead_[i] = xlead_[static_cast<std::size_t>(byx_[i].second)];
-    // Chunks of the sweep rows with about equal numbers of pair tests: row i tests the rows after it to the
-    // end of the next cell (cell_[c] is now the end of cell c), +2 for its own visit and its last test.
+    slead_.resize(rows);
+    for (std::size_t r = 0; r < rows; ++r) slead_[r] = xlead_[static_cast<std::size_t>(grid_.point(r))];
+    // Chunks of the rows with about equal numbers of pair tests.
     split_by_cost(
-        count_, kSweepChunks,
-        [&](int i) {
-          const int c = std::min(byx_[static_cast<std::size_t>(i)].first + 1, ncell - 1);
-          return static_cast<double>(cell_[static_cast<std::size_t>(c)] - i + 1);
-        },
+        static_cast<int>(rows), kSweepChunks, [&](int r) { return grid_.cost(static_cast<std::size_t>(r)); },
         sweep_split_.data());
     if (++stamp_ == 0) {  // wrapped: entries of 65536 steps ago would read as this step's
       std::fill(adj_.begin(), adj_.end(), std::uint16_t{0});
@@ -966,28 +936,24 @@ class Rbpf {
     }
   }
 
-  /// Chunk c of the sweep over byx_ (pairs in the same or adjacent cells only): rows
-  /// [sweep_split_[c], sweep_split_[c + 1]), about 1/kSweepChunks of the pair tests. Marks w.near of both
-  /// parents and adj_ = stamp_ for each pair within d_min (eq. 29).
+  /// Chunk c of the sweep: rows [sweep_split_[c], sweep_split_[c + 1]) of the grid, about 1/kSweepChunks of
+  /// the pair tests. Marks w.near of both parents and adj_ = stamp_ for each pair within d_min (eq. 29).
   void sweep_near(int c, double d_min, ThreadWork& w) {
     const auto M = static_cast<std::size_t>(opt_.num_particles);
     const double d2 = d_min * d_min;
-    const auto i0 = static_cast<std::size_t>(sweep_split_[static_cast<std::size_t>(c)]);
-    const auto i1 = static_cast<std::size_t>(sweep_split_[static_cast<std::size_t>(c) + 1]);
-    const std::size_t np = byx_.size();
-    for (std::size_t i = i0; i < i1; ++i) {
-      const auto a = static_cast<std::size_t>(byx_[i].second);
-      const int ca = byx_[i].first;
-      for (std::size_t j = i + 1; j < np; ++j) {
-        if (byx_[j].first > ca + 1) break;
-        const auto b = static_cast<std::size_t>(byx_[j].second);
+    const auto r0 = static_cast<std::size_t>(sweep_split_[static_cast<std::size_t>(c)]);
+    const auto r1 = static_cast<std::size_t>(sweep_split_[static_cast<std::size_t>(c) + 1]);
+    for (std::size_t r = r0; r < r1; ++r) {
+      const auto a = static_cast<std::size_t>(grid_.point(r));
+      grid_.for_candidates(r, [&](std::size_t s) {
+        const auto b = static_cast<std::size_t>(grid_.point(s));
         // eq. (29); the leading components' part of the squared distance is at most the whole (a sum of
         // fewer non-negative terms, rounded monotonically), so the pre-test drops no pair
-        if ((slead_[i] - slead_[j]).squaredNorm() < d2 && (xpred_[a] - xpred_[b]).squaredNorm() < d2) {
+        if ((slead_[r] - slead_[s]).squaredNorm() < d2 && (xpred_[a] - xpred_[b]).squaredNorm() < d2) {
           adj_[a * M + b] = adj_[b * M + a] = stamp_;
           w.near[a] = w.near[b] = 1;
         }
-      }
+      });
     }
   }
 
@@ -1465,14 +1431,13 @@ class Rbpf {
   // adj_[a M + b] == stamp_: parents a and b are within d_min this step (eq. 29)
   std::vector<std::uint16_t> adj_;
   std::uint16_t stamp_ = 0;
-  std::vector<std::pair<int, int>> byx_;  // (cell, p) by cell: the sweep order (prepare_sweep)
-  std::vector<Lead> xlead_, slead_;       // leading components of xpred_, and in byx_ order
-  std::vector<int> sweep_split_;          // sweep chunk c: rows [split[c], split[c + 1]) of byx_
-  std::vector<int> cell_, pcell_;         // prepare_sweep: cell starts (counting sort), cell of each parent
-  std::uint64_t key_count_ = 0;           // N_z^B: the keys merge_share splits over the threads
-  std::vector<int> sel_;                  // classical: selected children (indices into off_*)
-  std::vector<ChildRecord> crec_;         // the threads' kept records
-  std::vector<double> sel_w_, sel_tmp_;   // keep_heaviest scratch (select_kept)
+  detail::LineGrid grid_;                // the neighbour sweep's parents along their first component
+  std::vector<Lead> xlead_, slead_;      // leading components of xpred_, and in grid_'s row order
+  std::vector<int> sweep_split_;         // sweep chunk c: rows [split[c], split[c + 1]) of grid_
+  std::uint64_t key_count_ = 0;          // N_z^B: the keys merge_share splits over the threads
+  std::vector<int> sel_;                 // classical: selected children (indices into off_*)
+  std::vector<ChildRecord> crec_;        // the threads' kept records
+  std::vector<double> sel_w_, sel_tmp_;  // keep_heaviest scratch (select_kept)
   std::vector<ChildRecord> sel_ties_;
   std::vector<ChildRecord> sel_order_;  // reordered: the kept children by index (log weight: eq. 32 prior)
   std::vector<int> pstart_;             // order_by_index: each parent's group (counting sort)
