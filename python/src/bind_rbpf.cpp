@@ -439,16 +439,13 @@ void bind_rbpf(py::module_& m) {
             keys.data(), logw.data(), static_cast<int>(keys.size()),
             [&](int a, int b) { return (means.col(a) - means.col(b)).norm() < d_min; }, ws,
             [&](int a, int b, double) {
+              if (!with_pairs) return;
               pairs.push_back(a);
               pairs.push_back(b);
             });
         if (!with_pairs) return py::make_tuple(logw, n);
-        Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> P(n, 2);
-        for (int i = 0; i < n; ++i) {
-          P(i, 0) = pairs[static_cast<std::size_t>(2 * i)];
-          P(i, 1) = pairs[static_cast<std::size_t>(2 * i + 1)];
-        }
-        return py::make_tuple(logw, n, P);
+        using Pairs = Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor>;
+        return py::make_tuple(logw, n, Pairs(Eigen::Map<const Pairs>(pairs.data(), n, 2)));
       },
       py::arg("keys"), py::arg("means"), py::arg("logw"), py::arg("d_min"), py::arg("with_pairs") = false,
       "Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, "

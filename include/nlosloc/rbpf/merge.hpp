@@ -225,14 +225,11 @@ class LineGrid {
       lo = std::min(lo, v);
       hi = std::max(hi, v);
     }
+    if (!(d > 0.0) || !(lo <= hi)) return;  // no rows: nothing reads the buckets
     const std::size_t nb = buckets_for(n);
     // end_[nb]: the points without a row (non-finite x), placed after every row
     end_.resize(nb + 2);
     mask_ = static_cast<std::uint32_t>(nb - 1);
-    if (!(d > 0.0) || !(lo <= hi)) {
-      std::fill(end_.begin(), end_.end(), 0);
-      return;
-    }
     const double width = std::max(d, (hi - lo) * 0x1p-31) * (1.0 + 1e-5), inv = 1.0 / width;
     xcell_.resize(n);
     std::size_t rows = 0;
