@@ -179,6 +179,14 @@ void sort_groups(std::size_t N, MergeWorkspace& ws, const Heavier& heavier) {
   }
 }
 
+/// The smallest power of two that is at least n and at least lo (lo a power of two): the size of a table
+/// indexed by a mask (LineGrid's buckets, the parallel merge's hash tables).
+inline std::size_t pow2_at_least(std::size_t n, std::size_t lo) {
+  std::size_t p = lo;
+  while (p < n) p *= 2;
+  return p;
+}
+
 /// Stable counting sort of items 0..n-1 by bucket(i) in [0, nb): calls place(i, position) once per item,
 /// positions in bucket order (items of a bucket in index order). `ends` (nb + 1 entries) is the histogram;
 /// on return ends[b] is where bucket b ends. Linear in n + nb; used wherever items are grouped by a small
@@ -277,11 +285,7 @@ class LineGrid {
 
  private:
   static constexpr std::uint32_t kNone = ~std::uint32_t{0};
-  static std::size_t buckets_for(std::size_t n) {
-    std::size_t nb = 2;
-    while (nb < 2 * n) nb *= 2;
-    return nb;
-  }
+  static std::size_t buckets_for(std::size_t n) { return pow2_at_least(2 * n, 2); }
   std::size_t begin(std::uint32_t k) const { return k == 0 ? 0 : end_[k - 1]; }
 
   std::vector<std::uint32_t> cell_;   // cell of each row (rows by bucket)
@@ -540,8 +544,7 @@ int merge_greedy_parallel(const std::uint32_t* keys, double* logw, int n, Close&
         continue;
       }
       // table of at least twice the bucket's entries: probes stay short
-      int size = 16;
-      while (size < 2 * (hi - lo)) size *= 2;
+      const auto size = static_cast<int>(detail::pow2_at_least(2 * static_cast<std::size_t>(hi - lo), 16));
       const auto mask = static_cast<std::uint32_t>(size - 1);
       std::fill(slot, slot + size, -1);
       int nmulti = 0;
