@@ -157,6 +157,21 @@ TEST_CASE("eq. (14) referenced to the prediction (r = innovation, Sigma_v = eq. 
                     Catch::Matchers::Contains("D"));
   CHECK_THROWS_WITH(est.estimate_from_innovation(z, VecX::Zero(2), MatX::Identity(3, 3)),
                     Catch::Matchers::Contains("innovation"));
+  // inf is an input error (named), NaN a missing row (flagged); a rejected call keeps the last estimate.
+  const VecX zinf = Vec<3>(20.0, std::numeric_limits<double>::infinity(), 20.0);
+  CHECK_THROWS_WITH(
+      est.estimate_from_innovation(zinf, Vec<3>(40.0, -1.0, 0.5), MatX::Identity(3, 3)),
+      Catch::Matchers::Equals("z: expected finite values, or NaN for a missing row; got inf at row 1"));
+  CHECK_THROWS_WITH(est.estimate_from_innovation(z, zinf, MatX::Identity(3, 3)),
+                    Catch::Matchers::Contains("innovation: expected finite values") &&
+                        Catch::Matchers::Contains("got inf at row 1"));
+  CHECK_THROWS_WITH(est.estimate(zinf, VecX::Ones(3)),
+                    Catch::Matchers::Contains("z: expected finite values"));
+  CHECK_THAT(est.last().bias[0], WithinAbs(30.0, 1e-6));  // e2's estimate, untouched
+  CHECK_THAT(est.last().bias[2], WithinAbs(0.5, 1e-6));
+  const VecX znan = Vec<3>(20.0, std::nan(""), 20.0);
+  CHECK((est.estimate_from_innovation(znan, Vec<3>(1, 1, 1), MatX::Identity(3, 3)).flags &
+         kFlagMissingRows) != 0);
   const BiasEstimate& e3 = est.estimate_from_innovation(z, Vec<3>(1, 1, 1), -MatX::Identity(3, 3));
   CHECK((e3.flags & kFlagDegenerateGeometry) != 0);
   CHECK(e3.bias.isZero());
@@ -317,9 +332,20 @@ TEST_CASE("innovation test, eqs. (31)-(32): LOS below gamma Tr(S), NLOS above", 
 TEST_CASE("bad input leaves the tracker unchanged, missing rows are skipped", "[mitigation][input]") {
   QpBiasEkf f(motion(), small_anchors(), belief_at(3, 4));
   const Vec<4> x0 = f.mean();
-  CHECK_THROWS_WITH(f.step(VecX::Ones(2)), Catch::Matchers::Contains("y"));
+  CHECK_THROWS_WITH(f.step(VecX::Ones(2)), Catch::Matchers::Equals("z: expected shape (3, 1), got (2, 1)"));
   CHECK(f.mean() == x0);
   CHECK(f.time() == 0.0);
+  VecX zi = exact_ranges();
+  zi[2] = std::numeric_limits<double>::infinity();  // inf is an error, not a missing row
+  CHECK_THROWS_WITH(f.step(zi), Catch::Matchers::Equals(
+                                    "z: expected finite values, or NaN for a missing row; got inf at row 2"));
+  CHECK(f.mean() == x0);
+  CHECK(f.time() == 0.0);
+  // set_belief without a time keeps the time (as FilterBase::set_belief does).
+  f.predict();
+  f.set_belief(belief_at(5, 6));
+  CHECK(f.time() == motion().dt());
+  CHECK(f.mean()[0] == 5.0);
   VecX z = exact_ranges();
   z[1] = std::nan("");
   QpBiasEkfOptions o;

@@ -121,6 +121,36 @@ TEST_CASE("TOA, TDOA, AOA predictions by hand", "[models][measurement]") {
   CHECK_THAT(R(2, 2), WithinRel(0.04, 1e-15));
   CHECK(R(0, 1) == 0.0);
   CHECK(mean.norm() == 0.0);
+  // An asymmetric point, so the TDOA's sign shows: ||(1,1) - q_1|| - ||(1,1) - q_2|| = sqrt(26) - sqrt(50).
+  st.predict(Vec<4>(1, 1, 0, 0), 0.0, y);
+  CHECK_THAT(y[1], WithinRel(std::sqrt(26.0) - std::sqrt(50.0), 1e-15));
+}
+
+TEST_CASE("TDOA noise is n_a - n_b: NLOS means and medians subtract", "[models][measurement]") {
+  MatX a(2, 2);
+  a << 0, 0, 100, 0;
+  MeasurementStack st(ConstantVelocity2::layout(), a, 2);
+  st.add_tdoa(0, 1, {nn::Normal(0, 1), nn::ShiftedNormal(500, 40)},
+              {nn::Normal(0, 2), nn::ShiftedNormal(200, 30)});
+  const Vec<4> x(30, 40, 0, 0);
+  VecX mean(1), y(1), ya(1), u = VecX::Zero(2);
+  MatX R(1, 1);
+  VecXi s(2);
+  s << 1, 0;  // anchor a NLOS, b LOS: mean +500
+  st.noise_moments(x, s, mean, R);
+  CHECK(mean[0] == 500.0);
+  CHECK_THAT(R(0, 0), WithinRel(1600.0 + 4.0, 1e-15));
+  s << 0, 1;  // a LOS, b NLOS: mean -200
+  st.noise_moments(x, s, mean, R);
+  CHECK(mean[0] == -200.0);
+  s << 1, 1;
+  st.noise_moments(x, s, mean, R);
+  CHECK(mean[0] == 300.0);
+  CHECK_THAT(R(0, 0), WithinRel(1600.0 + 900.0, 1e-15));
+  // Augmented prediction with u = 0: g(x) + median_a - median_b (Huerta Table III.1 with a TDOA row).
+  st.predict(x, 0, y);
+  st.predict_augmented(x, 0, u, s, ya);
+  CHECK_THAT(ya[0], WithinRel(y[0] + 500.0 - 200.0, 1e-14));
 }
 
 TEST_CASE("angle residuals wrap", "[models][measurement]") {
@@ -256,4 +286,45 @@ TEST_CASE("measurement stack rejects bad input with named arguments", "[models][
   VecXi s(2);
   s << 0, 2;
   CHECK_THROWS_WITH(st.check_sight(s), Catch::Contains("sight"));
+  // Row queries check the index (std::out_of_range: IndexError in Python) and name it.
+  st.add_toa(0, two(1, 1));
+  CHECK_THROWS_AS(st.row(1), std::out_of_range);
+  CHECK_THROWS_WITH(st.row(1), "i: expected a row index in [0, 1), got 1");
+  CHECK_THROWS_WITH(st.is_angle(-1), "i: expected a row index in [0, 1), got -1");
+  CHECK_THROWS_WITH(st.noise(0, 2), "z: expected a sight condition in [0, 2), got 2");
+  CHECK(st.noise(0, 1).variance() == 1.0);
+}
+
+TEST_CASE("measurement stack rejects a layout whose indices leave the state",
+          "[models][measurement][errors]") {
+  MatX a(2, 2);
+  a << 0, 0, 1, 1;
+  // Every index field is checked: the rows read and write the state at them unchecked.
+  StateLayout L = ConstantVelocity2::layout();  // dim 4
+  L.clock_bias = 7;
+  CHECK_THROWS_WITH(MeasurementStack(L, a, 2),
+                    "layout: clock_bias = 7 does not fit a state of 4 (-1 when absent) (take the layout from "
+                    "the motion model)");
+  L = ConstantVelocity2::layout();
+  L.velocity = 3;  // a 2-D velocity block at 3 would end at 5
+  CHECK_THROWS_WITH(MeasurementStack(L, a, 2), Catch::Contains("layout: velocity = 3 does not fit"));
+  L = ConstantVelocity2::layout();
+  L.skew = -2;
+  CHECK_THROWS_WITH(MeasurementStack(L, a, 2), Catch::Contains("layout: skew = -2"));
+  L = ConstantVelocity2::layout();
+  L.offset = 4;
+  CHECK_THROWS_WITH(MeasurementStack(L, a, 2), Catch::Contains("layout: offset = 4"));
+  L = ConstantVelocity2::layout();
+  L.clock_drift = 10;
+  CHECK_THROWS_WITH(MeasurementStack(L, a, 2), Catch::Contains("layout: clock_drift = 10"));
+  L = ConstantVelocity2::layout();
+  L.position = 3;
+  CHECK_THROWS_WITH(MeasurementStack(L, a, 2),
+                    "layout: position = 3 does not fit a state of 4 (take the layout from the motion model)");
+  L = ConstantVelocity2::layout();
+  L.space_dim = 4;
+  CHECK_THROWS_WITH(MeasurementStack(L, a, 2), Catch::Contains("space_dim 2 or 3, got dim 4, space_dim 4"));
+  // The layouts of every motion model pass.
+  CHECK_NOTHROW(MeasurementStack(ConstantVelocityClock3::layout(), MatX::Zero(1, 3), 2));
+  CHECK_NOTHROW(MeasurementStack(TwoWayClock::layout(), MatX::Zero(1, 2), 2));
 }

@@ -179,6 +179,19 @@ TEST_CASE("K1 truth follows the (10, 15) m/s line within the process-noise sprea
       REQUIRE(d.positions.row(k) == d.states.row(k).head<2>());
     }
   }
+  // ... and the spread is there (the bound above also holds for a noise-free line): the velocity
+  // increments v_k - v_k-1 = dt a_k have variance Q(2, 2) = dt^2 (eq. 16); 2000 of them, seeded.
+  double ss = 0.0;
+  int n = 0;
+  for (std::uint64_t run = 0; run < 5; ++run) {
+    const Draw d = k1.draw("3LOS/0NLOS", 201, run);
+    for (int k = 1; k < d.steps(); ++k)
+      for (int i = 2; i < 4; ++i, ++n) ss += std::pow(d.states(k, i) - d.states(k - 1, i), 2);
+  }
+  const double ratio = ss / n / Q(2, 2);
+  INFO("sample variance / Q(2, 2) = " << ratio);
+  CHECK(ratio > 0.85);
+  CHECK(ratio < 1.15);
 }
 
 TEST_CASE("K1 measurement errors: LOS ~ N(0, 50^2), NLOS bias mean ~ 513", "[sim][k1]") {

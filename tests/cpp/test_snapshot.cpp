@@ -287,3 +287,50 @@ TEST_CASE("URR: the trellis settles on the true LOS hypothesis", "[snapshot]") {
   for (double d : urr.path_metrics()) mn = std::min(mn, d);
   CHECK_THAT(mn, WithinAbs(0.0, 1e-12));
 }
+
+namespace {
+/// est rejects an infinite row with the shared message, and the rejected call changes nothing: its next
+/// fix equals that of a twin that never saw the bad epoch (warm starts and trellis included).
+template <class Est>
+void check_rejects_inf(const MeasurementStack& st, const VecX& y, const VecX& y2) {
+  Est est(st), twin(st);
+  est.solve(y);
+  twin.solve(y);
+  VecX bad = y;
+  bad[3] = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(est.solve(bad), "y: expected finite values, or NaN for a missing row; got inf at row 3");
+  const SnapshotResult a = est.solve(y2);
+  const SnapshotResult b = twin.solve(y2);
+  CHECK(a.theta == b.theta);
+  CHECK(a.sight == b.sight);
+  CHECK(a.valid == b.valid);
+}
+}  // namespace
+
+TEST_CASE("snapshot estimators reject inf in y (NaN is a missing row) and keep their state", "[snapshot]") {
+  const MeasurementStack st = rtoa_stack();
+  Rng rng(8);
+  VecX bias = VecX::Zero(6);
+  bias[2] = 150.0;
+  const VecX y = rtoa(st.anchors(), Vec<2>(100.0, 50.0), 1.0, bias, std::sqrt(10.0), rng);
+  const VecX y2 = rtoa(st.anchors(), Vec<2>(110.0, 40.0), 1.0, bias, std::sqrt(10.0), rng);
+  check_rejects_inf<MleLos>(st, y, y2);
+  check_rejects_inf<Chen>(st, y, y2);
+  check_rejects_inf<Cong>(st, y, y2);
+  check_rejects_inf<Urruela>(st, y, y2);
+  LosSolver s(st);
+  VecX bad = y;
+  bad[0] = -std::numeric_limits<double>::infinity();
+  const std::vector<char> use(6, 1);
+  CHECK_THROWS_WITH(s.cost(bad, Theta::Zero(3), use, s.los_noise()),
+                    "y: expected finite values, or NaN for a missing row; got inf at row 0");
+  CHECK_THROWS_WITH(s.solve(bad, Theta::Zero(3), use, s.los_noise()),
+                    Catch::Matchers::Contains("got inf at row 0"));
+  // NaN: the row is left out (a fix from the other five).
+  VecX miss = y;
+  miss[0] = std::nan("");
+  MleLos mle(st);
+  const SnapshotResult& r = mle.solve(miss);
+  CHECK(r.valid);
+  CHECK((r.theta.head<2>() - Vec<2>(100.0, 50.0)).norm() < 200.0);
+}

@@ -61,6 +61,11 @@ void ensure_finite_or_missing(const Eigen::MatrixBase<D>& v, Eigen::Index n, con
       throw_invalid_argument(std::string(name) + ": expected " + expected + "; got inf at " + item + " " +
                              std::to_string(i));
 }
+/// Throws unless the measurement vector `name` has m entries, each finite or NaN (missing).
+template <class D>
+void check_measurement(const Eigen::MatrixBase<D>& y, Eigen::Index m, const char* name = "y") {
+  ensure_finite_or_missing(y, m, name, "finite values, or NaN for a missing row", "row");
+}
 inline void ensure_positive(double v, const char* name) {
   if (!(v > 0.0) || !std::isfinite(v))
     throw_invalid_argument(std::string(name) + ": expected a finite value > 0, got " + std::to_string(v));

@@ -101,12 +101,6 @@ inline CholeskyStatus worse(CholeskyStatus a, CholeskyStatus b) {
   return static_cast<int>(a) > static_cast<int>(b) ? a : b;
 }
 
-/// Throws unless y has m entries, each finite or NaN (missing).
-template <class D>
-void check_measurement(const Eigen::MatrixBase<D>& y, Eigen::Index m) {
-  ensure_finite_or_missing(y, m, "y", "finite values, or NaN for a missing row", "row");
-}
-
 /// Kalman update tail shared by KF, EKF and UKF. Given the predicted measurement z_hat, its covariance S
 /// (including the noise), the cross covariance Pxz and the measurement y, it computes the gain and the
 /// posterior. Rows with NaN in y are neutralised (zero innovation, unit S row/column, zero Pxz column)

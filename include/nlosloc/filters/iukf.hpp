@@ -104,6 +104,10 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
   VecXi sight_estimate() const { return fwd_.argmax(); }
   const Meas& measurements() const { return meas_; }
   const SigmaScheme& scheme() const { return scheme_; }
+  /// Throws the std::invalid_argument step_quality(y, o) would throw for these inputs, and changes nothing.
+  void check_inputs(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) const {
+    situation::check_step_inputs(meas_, fwd_.quality(), y, o);
+  }
 
  private:
   void precheck(const Eigen::Ref<const VecX>& y, const VecXi* sight) const {

@@ -109,6 +109,8 @@ class BiasAugmentedEkf {
     P_.bottomRightCorner(M_, M_).diagonal().setConstant(opt_.bias_prior_std * opt_.bias_prior_std);
     t_ = t;
   }
+  /// set_belief(b, time()): keeps the time, as FilterBase::set_belief(b) does.
+  void set_belief(const Gaussian<4>& b) { set_belief(b, t_); }
 
   /// Prediction: eq. (16) on the kinematics, random walk on the biases.
   void predict() {
@@ -124,13 +126,13 @@ class BiasAugmentedEkf {
   /// Iterated EKF update with ranges z (M; NaN rows skipped). If S cannot be factorised or the result is not
   /// finite, the predicted belief is kept and StepResult::status is kFailed (never NaN in the state).
   StepResult update(const Eigen::Ref<const VecX>& z) {
-    nlosloc::detail::check_measurement(z, M_);
+    nlosloc::detail::check_measurement(z, M_, "z");
     return update_unchecked(z);
   }
 
   /// predict() then update(z); bad input is rejected before predicting.
   StepResult step(const Eigen::Ref<const VecX>& z) {
-    nlosloc::detail::check_measurement(z, M_);
+    nlosloc::detail::check_measurement(z, M_, "z");
     predict();
     return update_unchecked(z);
   }

@@ -244,7 +244,7 @@ class BiasEstimator {
   /// reference_point). Never throws on inconsistent data: fallbacks are flagged in the result.
   const BiasEstimate& estimate(const Eigen::Ref<const VecX>& z, const Eigen::Ref<const VecX>& variances,
                                const Vec<2>* hint = nullptr) {
-    nlosloc::detail::ensure_shape(z, M_, 1, "z");
+    nlosloc::detail::check_measurement(z, M_, "z");  // before est_ changes
     nlosloc::detail::ensure_shape(variances, M_, 1, "variances");
     for (int i = 0; i < M_; ++i)
       NLOSLOC_ENSURE(variances[i] > 0.0 && std::isfinite(variances[i]),
@@ -255,11 +255,7 @@ class BiasEstimator {
     e.bias.setZero();
     e.qp = QpResult{};
     for (int i = 0; i < M_; ++i)
-      if (!std::isfinite(z[i])) {
-        NLOSLOC_ENSURE(std::isnan(z[i]),
-                       "z: expected finite values or NaN (missing), got inf at row " + std::to_string(i));
-        e.flags |= kFlagMissingRows;
-      }
+      if (std::isnan(z[i])) e.flags |= kFlagMissingRows;
     if (e.flags & kFlagMissingRows) {
       e.lower.setZero();
       e.upper.setZero();
@@ -333,12 +329,14 @@ class BiasEstimator {
   /// Eqs. (12)-(15) referenced to the tracker's prediction (file comment, second form): r = innovation
   /// (M, eq. 26: z - f(X(k|k-1))), Sigma_v = D (M x M, eq. 27: F P(k|k-1) F^T + R, positive definite),
   /// bounds 0 <= b <= eq. (15) from the ranges z (M). Never throws on inconsistent data (flags as in
-  /// estimate()); throws std::invalid_argument on wrong shapes. No heap allocation (beyond the solver).
+  /// estimate(); a NaN in z or the innovation is a missing row: kFlagMissingRows, no estimate); throws
+  /// std::invalid_argument on wrong shapes or an infinite entry, as estimate() does. No heap allocation
+  /// (beyond the solver).
   const BiasEstimate& estimate_from_innovation(const Eigen::Ref<const VecX>& z,
                                                const Eigen::Ref<const VecX>& innovation,
                                                const Eigen::Ref<const MatX>& D) {
-    nlosloc::detail::ensure_shape(z, M_, 1, "z");
-    nlosloc::detail::ensure_shape(innovation, M_, 1, "innovation");
+    nlosloc::detail::check_measurement(z, M_, "z");
+    nlosloc::detail::check_measurement(innovation, M_, "innovation");
     nlosloc::detail::ensure_shape(D, M_, M_, "D");
     BiasEstimate& e = est_;
     e.flags = 0;

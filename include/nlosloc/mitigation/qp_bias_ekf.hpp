@@ -159,6 +159,8 @@ class QpBiasEkf {
     bias_.setZero();
     last_ = MitigationStep{};
   }
+  /// set_belief(b, time()): keeps the time, as FilterBase::set_belief(b) does.
+  void set_belief(const Gaussian<4>& b) { set_belief(b, t_); }
 
   /// Prediction, eqs. (20)-(21): S(k|k-1) = Phi S(k-1|k-1), P(k|k-1) = Phi P Phi^T + Gamma Q Gamma^T.
   void predict() {
@@ -171,13 +173,13 @@ class QpBiasEkf {
   /// Measurement update with ranges z (M, m; NaN = missing row, skipped): innovation (26), test (31)-(32),
   /// bias QP (Sec. 3) when NLOS, gain (22), corrected update (25) and covariance (23).
   MitigationStep update(const Eigen::Ref<const VecX>& z) {
-    nlosloc::detail::check_measurement(z, num_anchors());
+    nlosloc::detail::check_measurement(z, num_anchors(), "z");
     return update_unchecked(z);
   }
 
   /// predict() then update(z); on bad input nothing changes (checked before predicting).
   MitigationStep step(const Eigen::Ref<const VecX>& z) {
-    nlosloc::detail::check_measurement(z, num_anchors());
+    nlosloc::detail::check_measurement(z, num_anchors(), "z");
     predict();
     return update_unchecked(z);
   }

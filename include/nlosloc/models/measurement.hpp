@@ -7,6 +7,7 @@
 /// The stack is built once (allocation happens in the add_* calls); the evaluation functions write into
 /// caller-provided buffers and never allocate, so filters can call them per sigma point.
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -52,9 +53,7 @@ class MeasurementStack {
   /// `num_conditions` >= 1: sight conditions per anchor (LOS = 0 plus NLOS types).
   MeasurementStack(const StateLayout& layout, const MatX& anchors, int num_conditions = 2)
       : layout_(layout), anchors_(anchors), num_conditions_(num_conditions) {
-    NLOSLOC_ENSURE(layout.dim > 0 && (layout.space_dim == 2 || layout.space_dim == 3) &&
-                       layout.position >= 0 && layout.position + layout.space_dim <= layout.dim,
-                   "layout: expected a valid state layout (take it from the motion model)");
+    check_layout(layout);
     detail::ensure_shape(anchors, -1, layout.space_dim, "anchors");
     detail::ensure_finite(anchors, "anchors");
     NLOSLOC_ENSURE(num_conditions >= 1,
@@ -155,15 +154,22 @@ class MeasurementStack {
   int num_conditions() const { return num_conditions_; }
   const StateLayout& layout() const { return layout_; }
   const MatX& anchors() const { return anchors_; }
-  const MeasurementRow& row(int i) const { return rows_.at(static_cast<std::size_t>(i)); }
+  const MeasurementRow& row(int i) const {
+    check_row(i, "i");
+    return rows_[static_cast<std::size_t>(i)];
+  }
   bool is_angle(int i) const {
-    const RowKind k = rows_[static_cast<std::size_t>(i)].kind;
-    return k == RowKind::kAoa || k == RowKind::kAoaPhase;
+    check_row(i, "i");
+    return angle_row(i);
   }
   bool has_angles() const { return has_angles_; }
   /// Noise distribution of row i (first anchor for TDOA) under condition z.
   const Dist& noise(int i, int z) const {
-    return noise_.at(static_cast<std::size_t>(i)).at(static_cast<std::size_t>(z));
+    check_row(i, "i");
+    if (z < 0 || z >= num_conditions_)  // std::out_of_range: IndexError in Python, as for i
+      throw std::out_of_range("z: expected a sight condition in [0, " + std::to_string(num_conditions_) +
+                              "), got " + std::to_string(z));
+    return noise_[static_cast<std::size_t>(i)][static_cast<std::size_t>(z)];
   }
 
   /// Throws unless `sight` has one entry per anchor with values in [0, num_conditions).
@@ -337,7 +343,7 @@ class MeasurementStack {
   void wrap_residual(Eigen::MatrixBase<D>& r) const {
     if (!has_angles_) return;
     for (int i = 0; i < rows(); ++i)
-      if (is_angle(i)) r[i] = wrap_angle(r[i]);
+      if (angle_row(i)) r[i] = wrap_angle(r[i]);
   }
 
   /// Wraps the angle rows of every column of a rows x K matrix of residuals.
@@ -345,7 +351,7 @@ class MeasurementStack {
   void wrap_residual_cols(Eigen::MatrixBase<D>& R) const {
     if (!has_angles_) return;
     for (int i = 0; i < rows(); ++i)
-      if (is_angle(i))
+      if (angle_row(i))
         for (Eigen::Index j = 0; j < R.cols(); ++j) R(i, j) = wrap_angle(R(i, j));
   }
 
@@ -355,6 +361,37 @@ class MeasurementStack {
     std::vector<std::optional<Dist>> gamma;
   };
 
+  /// Throws unless the layout's indices fit its state: the position (and velocity, when present) blocks
+  /// of space_dim entries and each clock entry (-1 when absent) inside [0, dim). The rows read and write
+  /// the state at these indices unchecked, so a bad layout would read or write out of bounds.
+  static void check_layout(const StateLayout& L) {
+    NLOSLOC_ENSURE(L.dim > 0 && (L.space_dim == 2 || L.space_dim == 3),
+                   "layout: expected dim > 0 and space_dim 2 or 3, got dim " + std::to_string(L.dim) +
+                       ", space_dim " + std::to_string(L.space_dim) + " (take it from the motion model)");
+    auto block = [&](int at, int size, const char* field, bool optional) {
+      NLOSLOC_ENSURE((optional && at == -1) || (at >= 0 && at + size <= L.dim),
+                     std::string("layout: ") + field + " = " + std::to_string(at) +
+                         " does not fit a state of " + std::to_string(L.dim) +
+                         (optional ? " (-1 when absent)" : "") + " (take the layout from the motion model)");
+    };
+    block(L.position, L.space_dim, "position", false);
+    block(L.velocity, L.space_dim, "velocity", true);
+    block(L.clock_bias, 1, "clock_bias", true);
+    block(L.clock_drift, 1, "clock_drift", true);
+    block(L.skew, 1, "skew", true);
+    block(L.offset, 1, "offset", true);
+  }
+  /// std::out_of_range (IndexError in Python) unless i is a row index.
+  void check_row(int i, const char* name) const {
+    if (i < 0 || i >= rows())
+      throw std::out_of_range(std::string(name) + ": expected a row index in [0, " + std::to_string(rows()) +
+                              "), got " + std::to_string(i));
+  }
+  /// Unchecked is_angle for the per-sigma-point loops.
+  bool angle_row(int i) const {
+    const RowKind k = rows_[static_cast<std::size_t>(i)].kind;
+    return k == RowKind::kAoa || k == RowKind::kAoaPhase;
+  }
   void check_anchor(int a, const char* name) const {
     NLOSLOC_ENSURE(a >= 0 && a < num_anchors(), std::string(name) + ": expected an anchor index in [0, " +
                                                     std::to_string(num_anchors()) + "), got " +

@@ -316,10 +316,8 @@ class ParticleFilter {
   /// One step with measurements y (NaN = missing) and quality statistics o (size B, NaN = missing).
   PfStepInfo step(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) {
     nlosloc::detail::check_measurement(y, meas_.rows());
-    situation::check_statistics(o, B_);
+    quality_.checked_table(o, B_, Lq_);
     y_ = y;
-    quality_.log_likelihood_table(o, Lq_);
-    situation::check_support(Lq_);
     const long k = k_ + 1;
     const double t = t_ + motion_.dt();
     const bool speed = sight_.speed_dependent();
@@ -424,6 +422,11 @@ class ParticleFilter {
   const PfOptions& options() const { return opt_; }
   const Motion& motion() const { return motion_; }
   const Meas& measurements() const { return meas_; }
+  /// Throws the std::invalid_argument step(y, o) would throw for these inputs, and changes nothing: checks
+  /// a batch before its first step (the Python run() does).
+  void check_inputs(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) const {
+    situation::check_step_inputs(meas_, quality_, y, o);
+  }
 
  private:
   using Packet = detail::PfPacket;

@@ -242,10 +242,8 @@ class Rbpf {
   RbpfStepInfo step(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) {
     phase_profile::begin_step();
     nlosloc::detail::check_measurement(y, meas_.rows());
-    situation::check_statistics(o, B_);
+    quality_.checked_table(o, B_, Lq_);
     y_ = y;
-    quality_.log_likelihood_table(o, Lq_);
-    situation::check_support(Lq_);
     RbpfStepInfo info;
     info.merge_threshold = opt_.merge_threshold >= 0.0
                                ? opt_.merge_threshold
@@ -306,6 +304,11 @@ class Rbpf {
   const RbpfOptions& options() const { return opt_; }
   const Motion& motion() const { return motion_; }
   const Meas& measurements() const { return meas_; }
+  /// Throws the std::invalid_argument step(y, o) would throw for these inputs, and changes nothing: checks
+  /// a batch before its first step (the Python run() does).
+  void check_inputs(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) const {
+    situation::check_step_inputs(meas_, quality_, y, o);
+  }
 
  private:
   int check(int i) const {

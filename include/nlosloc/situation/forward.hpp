@@ -84,9 +84,7 @@ class ForwardFilter {
   /// log p(o_t | o_1:t-1) summed over anchors. Every anchor is computed before any is stored, so a
   /// rejected call (inf in o, or a statistic impossible under every condition) changes nothing.
   double update(const Eigen::Ref<const VecX>& o) {
-    check_statistics(o, num_anchors());
-    quality_.log_likelihood_table(o, ll_);
-    check_support(ll_);
+    quality_.checked_table(o, num_anchors(), ll_);
     double total = 0.0;
     for (int b = 0; b < num_anchors(); ++b) {
       // log-domain product then normalise, so tiny densities do not underflow (weights in log space);

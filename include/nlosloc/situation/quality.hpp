@@ -68,6 +68,13 @@ class QualityModel {
       for (int z = 0; z < nz; ++z)
         out(b, z) = std::isnan(o(b)) ? 0.0 : d_[static_cast<std::size_t>(z)].log_pdf(o(b));
   }
+  /// log_likelihood_table after the checks every filter applies to `o` (B statistics, each finite or NaN;
+  /// each possible under some condition): std::invalid_argument naming `o` otherwise.
+  void checked_table(const Eigen::Ref<const VecX>& o, Eigen::Index B, MatX& out) const {
+    check_statistics(o, B);
+    log_likelihood_table(o, out);
+    check_support(out);
+  }
   /// log p(o | s) = sum_b log p(o_b | s_b) (anchors independent given s).
   double log_likelihood(const Eigen::Ref<const VecX>& o, const Eigen::Ref<const VecXi>& s) const {
     NLOSLOC_ENSURE(o.size() == s.size(), "o, s: expected the same number of anchors");
@@ -87,5 +94,15 @@ class QualityModel {
  private:
   std::vector<Dist> d_;
 };
+
+/// Throws the std::invalid_argument a filter's step(y, o) throws for bad inputs: y (meas.rows(), finite or
+/// NaN) and o (QualityModel::checked_table); allocates, so it is for checking ahead, not for the step.
+template <class Meas>
+void check_step_inputs(const Meas& meas, const QualityModel& quality, const Eigen::Ref<const VecX>& y,
+                       const Eigen::Ref<const VecX>& o) {
+  nlosloc::detail::check_measurement(y, meas.rows());
+  MatX table;
+  quality.checked_table(o, meas.num_anchors(), table);
+}
 
 }  // namespace nlosloc::situation

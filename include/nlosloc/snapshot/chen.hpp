@@ -59,6 +59,7 @@ class Chen {
   }
 
   const LosSolver& solver() const { return solver_; }
+  const ChenOptions& options() const { return opt_; }
   /// The combinations (anchor masks), larger first.
   const std::vector<AnchorMask>& combinations() const { return subsets_; }
   bool classifies_sight() const { return false; }
@@ -74,6 +75,7 @@ class Chen {
 
   /// The weighted estimate of epoch y.
   const SnapshotResult& solve(const Eigen::Ref<const VecX>& y) {
+    detail::check_measurement(y, solver_.stack().rows());  // before res_ changes
     res_.fixes = 0;
     res_.valid = false;
     std::size_t n = 0;

@@ -94,6 +94,7 @@ class Cong {
   }
 
   const LosSolver& solver() const { return solver_; }
+  const CongOptions& options() const { return opt_; }
   /// The fitted split normal of each row's NLOS noise.
   const std::vector<RowNoise>& nlos_noise() const { return nlos_; }
   bool classifies_sight() const { return true; }
@@ -110,6 +111,7 @@ class Cong {
   }
 
   const SnapshotResult& solve(const Eigen::Ref<const VecX>& y) {
+    detail::check_measurement(y, solver_.stack().rows());  // before res_ changes
     const int n = solver_.unknowns(), m = solver_.stack().rows();
     res_.fixes = 0;
     res_.valid = false;

@@ -320,7 +320,7 @@ class LosSolver {
   void check_rows(const Eigen::Ref<const VecX>& y, const std::vector<char>& use,
                   const std::vector<RowNoise>* noise) const {
     const auto m = static_cast<std::size_t>(stack_.rows());
-    detail::ensure_shape(y, stack_.rows(), 1, "y");
+    detail::check_measurement(y, stack_.rows());  // NaN = missing row; inf is an error
     NLOSLOC_ENSURE(use.size() == m, "use: expected one flag per row (" + std::to_string(m) + "), got " +
                                         std::to_string(use.size()));
     NLOSLOC_ENSURE(noise == nullptr || noise->size() == m, "noise: expected one RowNoise per row (" +

@@ -26,6 +26,8 @@ class MleLos {
   }
 
   const LosSolver& solver() const { return solver_; }
+  /// Its only options: the Gauss-Newton settings of the solver.
+  const GaussNewtonOptions& options() const { return solver_.options(); }
   /// MLE-LOS does not classify sight (sight() is all LOS).
   bool classifies_sight() const { return false; }
   const VecXi& sight() const { return res_.sight; }
@@ -39,7 +41,7 @@ class MleLos {
   /// The fix of epoch y (NaN rows skipped). When no fix is possible the previous one is returned with
   /// valid = false.
   const SnapshotResult& solve(const Eigen::Ref<const VecX>& y) {
-    detail::ensure_shape(y, solver_.stack().rows(), 1, "y");  // polar_start reads y before any solve
+    detail::check_measurement(y, solver_.stack().rows());  // polar_start reads y before any solve
     res_.fixes = 0;
     res_.valid = false;
     Fix best;

@@ -110,6 +110,7 @@ class Urruela {
   }
 
   const SnapshotResult& solve(const Eigen::Ref<const VecX>& y) {
+    detail::check_measurement(y, solver_.stack().rows());  // before res_ changes
     const std::size_t H = hyp_.size();
     const int B = solver_.stack().num_anchors();
     const double log2pi = std::log(2.0 * kPi), logW = std::log(opt_.nlos_span);
