@@ -15,7 +15,9 @@ namespace py = pybind11;
 using namespace nlosloc;
 
 void bind_core(py::module_& m) {
-  static py::exception<NumericalError> numerical_error(m, "NumericalError", PyExc_RuntimeError);
+  // register_exception also installs the translator: a bare py::exception<> only creates the type, and
+  // the C++ NumericalError then reached Python as a plain RuntimeError.
+  auto& numerical_error = py::register_exception<NumericalError>(m, "NumericalError", PyExc_RuntimeError);
   numerical_error.doc() =
       "Raised when a step cannot be completed numerically (a covariance that is not positive definite "
       "even with the Cholesky fallback). The filter keeps the belief it had before the call.";

@@ -9,6 +9,7 @@
 
 #include <variant>
 
+#include "batch.hpp"
 #include "bind.hpp"
 #include "motion_arg.hpp"
 #include "nlosloc/filters/ekf.hpp"
@@ -60,14 +61,15 @@ using UkfT = Ukf<M>;
 template <class M>
 using UkfAugT = UkfAugmented<M>;
 
-/// Reads the optional sight argument of step/update: None, or (B,) ints.
+/// Reads the optional sight argument of step/update: None, or (B,) integers.
 std::optional<VecXi> sight_arg(const py::object& s) {
   if (s.is_none()) return std::nullopt;
-  return s.cast<VecXi>();
+  return bind::to_sight(s);
 }
 
 /// Runs T steps over Y (T, m) in one call with the GIL released. `sight`: None, (B,) for every step, or
-/// (T, B). Returns mean (T, n), cov (T, n, n), log_likelihood (T,), rows_used (T,).
+/// (T, B). Every row is checked before the first step (batch.hpp). Returns mean (T, n), cov (T, n, n),
+/// log_likelihood (T,), rows_used (T,).
 template <class Filter>
 py::dict run_batch(
     Filter& f,
@@ -80,18 +82,12 @@ py::dict run_batch(
   bool per_step = false;
   const bool have_sight = !sight_obj.is_none();
   if (have_sight) {
-    const auto arr = py::array_t<int, py::array::c_style | py::array::forcecast>::ensure(sight_obj);
-    if (!arr) throw std::invalid_argument("sight: expected an integer array of shape (B,) or (T, B)");
-    if (arr.ndim() == 1 && arr.shape(0) == B) {
-      S = Eigen::Map<const Eigen::Matrix<int, 1, Eigen::Dynamic>>(arr.data(), B);
-    } else if (arr.ndim() == 2 && arr.shape(0) == T && arr.shape(1) == B) {
-      S = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(arr.data(), T,
-                                                                                                B);
-      per_step = true;
-    } else {
+    S = bind::to_int_rows(sight_obj, "sight");
+    const auto ndim = py::array::ensure(sight_obj).ndim();
+    per_step = ndim == 2;
+    if (!((ndim == 1 && S.cols() == B) || (per_step && S.rows() == T && S.cols() == B)))
       throw std::invalid_argument("sight: expected shape (B,) or (T, B) with B = " + std::to_string(B) +
                                   ", T = " + std::to_string(T));
-    }
   }
   py::array_t<double> means({static_cast<py::ssize_t>(T), static_cast<py::ssize_t>(N)});
   py::array_t<double> covs(
@@ -102,21 +98,16 @@ py::dict run_batch(
   double* pc = covs.mutable_data();
   double* pl = ll.mutable_data();
   int* pu = used.mutable_data();
+  bind::check_steps(T, [&](Eigen::Index k) {
+    detail::check_measurement(Y.row(k).transpose(), m, "Y");
+    if (have_sight && (per_step || k == 0)) f.measurements().check_sight(S.row(k).transpose(), "sight");
+  });
   {
-    // Validate all rows before the first step so a bad row cannot leave the filter half-way.
-    for (Eigen::Index k = 0; k < T; ++k)
-      for (Eigen::Index i = 0; i < m; ++i)
-        if (std::isinf(Y(k, i)))
-          throw std::invalid_argument("Y: expected finite values or NaN (missing), got inf at (" +
-                                      std::to_string(k) + ", " + std::to_string(i) + ")");
-    for (Eigen::Index k = 0; have_sight && k < S.rows(); ++k) {
-      const VecXi s = S.row(k).transpose();
-      f.measurements().check_sight(s, "sight");
-    }
     py::gil_scoped_release release;
     VecX y(m);
-    VecXi s = have_sight ? VecXi(S.row(0).transpose()) : VecXi::Zero(B);
-    for (Eigen::Index k = 0; k < T; ++k) {
+    VecXi s = VecXi::Zero(B);
+    if (have_sight && S.rows() > 0) s = S.row(0).transpose();  // T = 0 with (T, B) sight: no row 0
+    bind::run_steps(T, [&](Eigen::Index k) {
       y = Y.row(k).transpose();
       if (per_step) s = S.row(k).transpose();
       const StepResult r = f.step(y, have_sight ? &s : nullptr);
@@ -124,7 +115,7 @@ py::dict run_batch(
       Eigen::Map<Eigen::Matrix<double, N, N, Eigen::RowMajor>>(pc + k * N * N) = f.cov();
       pl[k] = r.log_likelihood;
       pu[k] = r.rows_used;
-    }
+    });
   }
   py::dict out;
   out["mean"] = means;
@@ -149,9 +140,18 @@ void common_methods(Cls& c) {
       .def_property_readonly(
           "time", [](const A& a) { return a.visit([](const auto& f) { return f.time(); }); },
           "Time of the belief (s).")
-      .def_property_readonly("dim", [](const A& a) {
-        return a.visit([](const auto& f) { return std::decay_t<decltype(f)>::kDim; });
-      });
+      .def_property_readonly(
+          "dim",
+          [](const A& a) { return a.visit([](const auto& f) { return std::decay_t<decltype(f)>::kDim; }); })
+      .def_property_readonly(
+          "motion", [](const A& a) { return a.visit([](const auto& f) { return py::cast(f.motion()); }); },
+          "The motion model (a copy).")
+      .def(
+          "belief",
+          [](const A& a) {
+            return a.visit([](const auto& f) { return py::make_tuple(VecX(f.mean()), MatX(f.cov())); });
+          },
+          "The belief as a tuple (mean (n,), cov (n, n)).");
   bind::def_set_belief<A>(c);
 }
 
@@ -190,6 +190,17 @@ void measurement_methods(Cls& c) {
       .def_property_readonly(
           "measurements", [](const A& a) { return a.visit([](const auto& f) { return f.measurements(); }); });
 }
+/// The sigma-point settings of Ukf and UkfAugmented.
+template <template <class> class F, class Cls>
+void sigma_methods(Cls& c) {
+  using A = AnyFilter<F>;
+  c.def_property_readonly(
+       "scheme", [](const A& a) { return a.visit([](const auto& f) { return f.scheme(); }); },
+       "The sigma-point scheme (a copy).")
+      .def_property_readonly(
+          "weights", [](const A& a) { return a.visit([](const auto& f) { return f.weights(); }); },
+          "The sigma-point weights of the update (a copy).");
+}
 }  // namespace
 
 void bind_filters(py::module_& m) {
@@ -220,9 +231,15 @@ void bind_filters(py::module_& m) {
           py::arg("motion"), py::arg("H"), py::arg("R"), py::arg("mean"), py::arg("cov"), py::arg("t0") = 0.0,
           "motion: any motion model; H (m, n); R (m, m) SPD; initial belief N(mean, cov).");
     common_methods<KfT>(c);
-    c.def(
-         "update", [](A& a, const VecX& y) { return a.visit([&](auto& f) { return f.update(y); }); },
-         py::arg("y"), "Update with y (m,), NaN = missing.")
+    c.def_property_readonly(
+         "H", [](const A& a) { return a.visit([](const auto& f) { return MatX(f.H()); }); }, "(m, n).")
+        .def_property_readonly(
+            "R", [](const A& a) { return a.visit([](const auto& f) { return MatX(f.R()); }); }, "(m, m).")
+        .def_property_readonly("rows",
+                               [](const A& a) { return a.visit([](const auto& f) { return f.rows(); }); })
+        .def(
+            "update", [](A& a, const VecX& y) { return a.visit([&](auto& f) { return f.update(y); }); },
+            py::arg("y"), "Update with y (m,), NaN = missing.")
         .def(
             "step", [](A& a, const VecX& y) { return a.visit([&](auto& f) { return f.step(y); }); },
             py::arg("y"), "predict() then update(y).");
@@ -255,6 +272,7 @@ void bind_filters(py::module_& m) {
           py::arg("scheme") = SigmaScheme::scaled(), py::arg("t0") = 0.0);
     common_methods<UkfT>(c);
     measurement_methods<UkfT>(c);
+    sigma_methods<UkfT>(c);
   }
   {
     using A = AnyFilter<UkfAugT>;
@@ -271,5 +289,9 @@ void bind_filters(py::module_& m) {
           py::arg("scheme") = SigmaScheme::scaled(), py::arg("t0") = 0.0);
     common_methods<UkfAugT>(c);
     measurement_methods<UkfAugT>(c);
+    sigma_methods<UkfAugT>(c);
+    c.def_property_readonly(
+        "augmented_dim", [](const A& a) { return a.visit([](const auto& f) { return f.augmented_dim(); }); },
+        "n + q: the state plus the measurement noise inputs in the sigma points (Huerta eq. 49).");
   }
 }

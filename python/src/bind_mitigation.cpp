@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "batch.hpp"
 #include "bind.hpp"
 #include "nlosloc/mitigation/mitigation.hpp"
 
@@ -171,12 +172,15 @@ void bind_mitigation(pybind11::module_& m) {
       .def_property_readonly("H0", &BiasEstimator::H0, "Eq. (10), (M, 2).")
       .def_property_readonly("U", &BiasEstimator::U, "Eq. (11), (2, M).")
       .def_property_readonly("L", &BiasEstimator::L, "Eq. (12), (M, M).")
-      .def_property_readonly("y", &BiasEstimator::y, "Eq. (9) linearised measurement.")
-      .def_property_readonly("r", &BiasEstimator::r, "Eq. (12) bias metric.")
-      .def_property_readonly("sigma_v", &BiasEstimator::sigma_v, "Eq. (13), L R L^T.")
-      .def_property_readonly("sigma_v_ginv", &BiasEstimator::sigma_v_ginv, "R^-1 L.")
-      .def_property_readonly("qp_hessian", &BiasEstimator::qp_hessian)
-      .def_property_readonly("qp_gradient", &BiasEstimator::qp_gradient);
+      .def_property_readonly("y", &BiasEstimator::y, py::return_value_policy::copy,
+                             "Eq. (9) linearised measurement.")
+      .def_property_readonly("r", &BiasEstimator::r, py::return_value_policy::copy, "Eq. (12) bias metric.")
+      .def_property_readonly("sigma_v", &BiasEstimator::sigma_v, py::return_value_policy::copy,
+                             "Eq. (13), L R L^T.")
+      .def_property_readonly("sigma_v_ginv", &BiasEstimator::sigma_v_ginv, py::return_value_policy::copy,
+                             "R^-1 L.")
+      .def_property_readonly("qp_hessian", &BiasEstimator::qp_hessian, py::return_value_policy::copy)
+      .def_property_readonly("qp_gradient", &BiasEstimator::qp_gradient, py::return_value_policy::copy);
 
   // ---- trackers -------------------------------------------------------------------------------------
   py::class_<QpBiasEkfOptions>(m, "QpBiasEkfOptions", "Options of QpBiasEkf.")
@@ -224,10 +228,14 @@ void bind_mitigation(pybind11::module_& m) {
       .def(
           "run",
           [](QpBiasEkf& f, const RowMat& Z, bool first_is_update) {
+            nlosloc::detail::ensure_shape(Z, -1, f.num_anchors(), "Z");
+            bind::check_steps(Z.rows(), [&](Eigen::Index k) {
+              nlosloc::detail::check_measurement(Z.row(k).transpose(), f.num_anchors(), "Z");
+            });
             RowMat X(Z.rows(), 4);
             {
               py::gil_scoped_release nogil;
-              for (Eigen::Index k = 0; k < Z.rows(); ++k) {
+              bind::run_steps(Z.rows(), [&](Eigen::Index k) {
                 const VecX z = Z.row(k).transpose();
                 if (k == 0 && first_is_update) {
                   f.update(z);
@@ -235,27 +243,35 @@ void bind_mitigation(pybind11::module_& m) {
                   f.step(z);
                 }
                 X.row(k) = f.mean().transpose();
-              }
+              });
             }
             return X;
           },
           py::arg("Z"), py::arg("first_is_update") = true,
-          "Runs over ranges Z (T, M); returns the means (T, 4). Row 0 is an update only by default.")
+          "Runs over ranges Z (T, M); returns the means (T, 4). Row 0 is an update only by default. Every "
+          "row is checked before the first step.")
       .def_property_readonly("mean", [](const QpBiasEkf& f) { return VecX(f.mean()); })
       .def_property_readonly("cov", [](const QpBiasEkf& f) { return MatX(f.cov()); })
       .def_property_readonly("time", &QpBiasEkf::time)
-      .def_property_readonly("bias", &QpBiasEkf::bias, "b^ of the last update (M,).")
+      .def_property_readonly(
+          "bias", [](const QpBiasEkf& f) { return VecX(f.bias()); }, "b^ of the last update (M,) (a copy).")
+      .def_property_readonly("motion", &QpBiasEkf::motion, py::return_value_policy::copy,
+                             "The motion model (a copy).")
+      .def(
+          "belief", [](const QpBiasEkf& f) { return py::make_tuple(VecX(f.mean()), MatX(f.cov())); },
+          "The belief as a tuple (mean (4,), cov (4, 4)).")
       .def_property_readonly("nlos_detected", &QpBiasEkf::nlos_detected)
-      .def_property_readonly("last_step", &QpBiasEkf::last_step)
+      .def_property_readonly("last_step", &QpBiasEkf::last_step, py::return_value_policy::copy)
       .def_property_readonly("num_anchors", &QpBiasEkf::num_anchors)
       .def_property_readonly("anchors", &QpBiasEkf::anchors)
-      .def_property_readonly("options", &QpBiasEkf::options)
+      .def_property_readonly("options", &QpBiasEkf::options, py::return_value_policy::copy)
       .def(
           "set_belief",
-          [](QpBiasEkf& f, const VecX& mean, const MatX& cov, double t) {
-            f.set_belief(to_belief4(mean, cov), t);
+          [](QpBiasEkf& f, const VecX& mean, const MatX& cov, std::optional<double> t) {
+            f.set_belief(to_belief4(mean, cov), t.value_or(f.time()));
           },
-          py::arg("mean"), py::arg("cov"), py::arg("t") = 0.0);
+          py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
+          "Replaces the belief and, when t is given, the time; clears the last bias and decision.");
 
   py::class_<BiasAugmentedEkfOptions>(m, "BiasAugmentedEkfOptions", "Options of BiasAugmentedEkf.")
       .def(py::init<>())
@@ -278,17 +294,27 @@ void bind_mitigation(pybind11::module_& m) {
       .def("predict", &BiasAugmentedEkf::predict)
       .def("update", &BiasAugmentedEkf::update, py::arg("z"))
       .def("step", &BiasAugmentedEkf::step, py::arg("z"))
-      .def_property_readonly("mean", &BiasAugmentedEkf::mean, "[x, y, vx, vy, b_1..b_M].")
-      .def_property_readonly("cov", &BiasAugmentedEkf::cov)
+      .def_property_readonly(
+          "mean", [](const BiasAugmentedEkf& f) { return VecX(f.mean()); },
+          "[x, y, vx, vy, b_1..b_M] (a copy).")
+      .def_property_readonly(
+          "cov", [](const BiasAugmentedEkf& f) { return MatX(f.cov()); },
+          "Covariance (4 + M, 4 + M) (a copy).")
       .def_property_readonly("kinematic_mean",
                              [](const BiasAugmentedEkf& f) { return VecX(f.kinematic_mean()); })
       .def_property_readonly("bias", &BiasAugmentedEkf::bias)
       .def_property_readonly("time", &BiasAugmentedEkf::time)
       .def_property_readonly("state_dim", &BiasAugmentedEkf::state_dim)
+      .def_property_readonly("num_anchors", &BiasAugmentedEkf::num_anchors)
+      .def_property_readonly(
+          "anchors", [](const BiasAugmentedEkf& f) { return MatX(f.anchors()); }, "(M, 2).")
+      .def_property_readonly("options", &BiasAugmentedEkf::options, py::return_value_policy::copy,
+                             "The settings (a copy).")
       .def(
           "set_belief",
-          [](BiasAugmentedEkf& f, const VecX& mean, const MatX& cov, double t) {
-            f.set_belief(to_belief4(mean, cov), t);
+          [](BiasAugmentedEkf& f, const VecX& mean, const MatX& cov, std::optional<double> t) {
+            f.set_belief(to_belief4(mean, cov), t.value_or(f.time()));
           },
-          py::arg("mean"), py::arg("cov"), py::arg("t") = 0.0);
+          py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
+          "Sets the kinematic belief and, when t is given, the time; resets the biases to the prior.");
 }

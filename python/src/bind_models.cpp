@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "bind.hpp"
+#include "motion_arg.hpp"
 #include "nlosloc/models/measurement.hpp"
 #include "nlosloc/models/motion.hpp"
 
@@ -132,7 +133,7 @@ void bind_models(py::module_& m) {
       .def_property_readonly("noise_dim", &MeasurementStack::noise_dim)
       .def_property_readonly("num_anchors", &MeasurementStack::num_anchors)
       .def_property_readonly("num_conditions", &MeasurementStack::num_conditions)
-      .def_property_readonly("layout", &MeasurementStack::layout)
+      .def_property_readonly("layout", &MeasurementStack::layout, py::return_value_policy::copy)
       .def_property_readonly("anchors", &MeasurementStack::anchors)
       .def("row", &MeasurementStack::row, py::arg("i"))
       .def("noise", &MeasurementStack::noise, py::arg("i"), py::arg("condition"))
@@ -156,8 +157,9 @@ void bind_models(py::module_& m) {
           py::arg("x"), py::arg("t") = 0.0, "Analytic Jacobian dg/dx, shape (rows, n).")
       .def(
           "noise_moments",
-          [](const MeasurementStack& s, const VecX& x, const VecXi& sight) {
+          [](const MeasurementStack& s, const VecX& x, const py::object& sight_obj) {
             detail::ensure_shape(x, s.layout().dim, 1, "x");
+            const VecXi sight = bind::to_sight(sight_obj);
             s.check_sight(sight);
             VecX mean(s.rows());
             MatX cov(s.rows(), s.rows());
@@ -167,9 +169,10 @@ void bind_models(py::module_& m) {
           py::arg("x"), py::arg("sight"), "(mean, cov) of the noise under `sight` at x.")
       .def(
           "predict_augmented",
-          [](const MeasurementStack& s, const VecX& x, double t, const VecX& u, const VecXi& sight) {
+          [](const MeasurementStack& s, const VecX& x, double t, const VecX& u, const py::object& sight_obj) {
             detail::ensure_shape(x, s.layout().dim, 1, "x");
             detail::ensure_shape(u, s.noise_dim(), 1, "u");
+            const VecXi sight = bind::to_sight(sight_obj);
             s.check_sight(sight);
             VecX y(s.rows());
             s.predict_augmented(x, t, u, sight, y);

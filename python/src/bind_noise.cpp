@@ -386,7 +386,8 @@ samples : numpy.ndarray
     Shape (n,), n >= 2 finite values with a nonzero spread (unit of x).
 )doc");
   empirical.def(py::init<const VecX&>(), py::arg("samples"))
-      .def_property_readonly("samples", &Empirical::samples, "The samples, sorted ascending, shape (n,).")
+      .def_property_readonly("samples", &Empirical::samples, py::return_value_policy::copy,
+                             "The samples, sorted ascending, shape (n,).")
       .def_property_readonly("bandwidth", &Empirical::bandwidth, "Kernel bandwidth h (unit of x).")
       .def_property_readonly("size", &Empirical::size, "Number of samples n.")
       .def(py::pickle([](const Empirical& d) { return py::make_tuple(d.samples()); },

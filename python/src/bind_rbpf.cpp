@@ -13,6 +13,7 @@
 #include <optional>
 #include <variant>
 
+#include "batch.hpp"
 #include "bind.hpp"
 #include "motion_arg.hpp"
 #include "nlosloc/filters/iukf.hpp"
@@ -58,16 +59,19 @@ using PfT = ParticleFilter<M>;
 template <class M>
 using IukfT = Iukf<M>;
 
-/// Runs f.step over the rows of Y, O (GIL released); returns the per-step estimates.
+/// Runs f.step over the rows of Y, O (GIL released), every row checked first (batch.hpp); returns the
+/// per-step estimates.
 template <class A, class Step>
 py::dict run_batch(A& a, const Eigen::Ref<const RowMat>& Y, const Eigen::Ref<const RowMat>& O, Step&& step) {
-  NLOSLOC_ENSURE(Y.rows() == O.rows(), "Y, O: expected the same number of steps (rows)");
+  NLOSLOC_ENSURE(Y.rows() == O.rows(), "Y, O: expected the same number of steps (rows), got " +
+                                           std::to_string(Y.rows()) + " and " + std::to_string(O.rows()));
   const Eigen::Index T = Y.rows();
   int n = 0, B = 0, nz = 0;
   a.visit([&](auto& f) {
     n = static_cast<int>(f.estimate().size());
     B = static_cast<int>(f.situation_probabilities().rows());
     nz = static_cast<int>(f.situation_probabilities().cols());
+    bind::check_steps(T, [&](Eigen::Index k) { f.check_inputs(Y.row(k).transpose(), O.row(k).transpose()); });
   });
   py::array_t<double> mean({static_cast<py::ssize_t>(T), static_cast<py::ssize_t>(n)});
   py::array_t<double> cov(
@@ -82,7 +86,7 @@ py::dict run_batch(A& a, const Eigen::Ref<const RowMat>& Y, const Eigen::Ref<con
   {
     py::gil_scoped_release release;
     a.visit([&](auto& f) {
-      for (Eigen::Index t = 0; t < T; ++t) {
+      bind::run_steps(T, [&](Eigen::Index t) {
         lm(t) = step(f, VecX(Y.row(t).transpose()), VecX(O.row(t).transpose()));
         for (int i = 0; i < n; ++i) {
           mm(t, i) = f.estimate()(i);
@@ -90,7 +94,7 @@ py::dict run_batch(A& a, const Eigen::Ref<const RowMat>& Y, const Eigen::Ref<con
         }
         for (int b = 0; b < B; ++b)
           for (int z = 0; z < nz; ++z) pm(t, b, z) = f.situation_probabilities()(b, z);
-      }
+      });
     });
   }
   py::dict d;
@@ -130,7 +134,15 @@ void summary_methods(C& c) {
               return py::make_tuple(VecX(g.mean), MatX(g.cov));
             });
           },
-          "The Gaussian summary as a tuple (mean (n,), cov (n, n)).");
+          "The Gaussian summary as a tuple (mean (n,), cov (n, n)).")
+      .def(
+          "check_inputs",
+          [](const A& a, const VecX& y, const VecX& o) {
+            a.visit([&](const auto& f) { f.check_inputs(y, o); });
+          },
+          py::arg("y"), py::arg("o"),
+          "Raises the ValueError a step with y (m,) and o (B,) would raise, changing nothing (run() checks "
+          "every row this way before its first step).");
 }
 
 /// Accessors shared by Rbpf and ParticleFilter: options, models and reset.
@@ -371,7 +383,7 @@ void bind_rbpf(py::module_& m) {
              const auto ov = o.cast<VecX>();
              return a.visit([&](auto& f) { return f.step_quality(y, ov); });
            }
-           const auto s = sight.cast<VecXi>();
+           const VecXi s = bind::to_sight(sight);
            return a.visit([&](auto& f) { return f.step(y, s); });
          },
          py::arg("y"), py::arg("o") = py::none(), py::kw_only(), py::arg("sight") = py::none(),

@@ -187,7 +187,7 @@ void bind_scenarios(py::module_& m) {
       .def_property_readonly("discard", &sim::Scenario::discard, "First samples left out of the statistics.")
       .def_property_readonly("state_dim", &sim::Scenario::state_dim, "Size n of the true state.")
       .def_property_readonly("space_dim", &sim::Scenario::space_dim, "Space dimension D.")
-      .def_property_readonly("measurements", &sim::Scenario::measurements,
+      .def_property_readonly("measurements", &sim::Scenario::measurements, py::return_value_policy::copy,
                              "The models.MeasurementStack that generates the draws' y.")
       .def_property_readonly("paper_source", &sim::Scenario::paper_source, "Where the published numbers are.")
       .def("case_index", &sim::Scenario::case_index, py::arg("case"),
@@ -232,11 +232,11 @@ void bind_scenarios(py::module_& m) {
       .def(py::init<const H1Params&>(), py::arg_v("params", H1Params(), "H1Params()"))
       .def_property_readonly(
           "params", [](const sim::H1& h) { return h.params(); }, "A copy of its H1Params.")
-      .def_property_readonly("motion", &sim::H1::motion,
+      .def_property_readonly("motion", &sim::H1::motion, py::return_value_policy::copy,
                              "Filters' models.ConstantVelocity2 (Huerta eqs. 6-7, random walk sigma_v^2).")
-      .def_property_readonly("sight_process", &sim::H1::sight_process,
+      .def_property_readonly("sight_process", &sim::H1::sight_process, py::return_value_policy::copy,
                              "The situation.SightProcess of the single anchor (eq. 17).")
-      .def_property_readonly("quality", &sim::H1::quality,
+      .def_property_readonly("quality", &sim::H1::quality, py::return_value_policy::copy,
                              "Quality likelihoods per condition [LOS, NLOS] (noise.Distribution).")
       .def("serving_sector", &sim::H1::serving_sector, py::arg("theta"),
            "Index (0..2) of the sector serving a mobile at bearing theta (rad).");
@@ -274,11 +274,11 @@ void bind_scenarios(py::module_& m) {
       .def(py::init<const H2Params&>(), py::arg_v("params", H2Params(), "H2Params()"))
       .def_property_readonly(
           "params", [](const sim::H2& h) { return h.params(); }, "A copy of its H2Params.")
-      .def_property_readonly("motion", &sim::H2::motion,
+      .def_property_readonly("motion", &sim::H2::motion, py::return_value_policy::copy,
                              "Filters' models.ConstantVelocityClock2 (Huerta eqs. 5-7).")
-      .def_property_readonly("sight_process", &sim::H2::sight_process,
+      .def_property_readonly("sight_process", &sim::H2::sight_process, py::return_value_policy::copy,
                              "The situation.SightProcess (one eq. 17 chain per anchor).")
-      .def_property_readonly("quality", &sim::H2::quality,
+      .def_property_readonly("quality", &sim::H2::quality, py::return_value_policy::copy,
                              "Quality likelihoods per condition [LOS, NLOS] (noise.Distribution).")
       .def(
           "prior_variances", [](const sim::H2& h) { return nlosloc::VecX(h.prior_variances()); },

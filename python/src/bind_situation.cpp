@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "bind.hpp"
+#include "motion_arg.hpp"
 #include "nlosloc/situation/forward.hpp"
 #include "nlosloc/situation/markov.hpp"
 #include "nlosloc/situation/quality.hpp"
@@ -65,8 +66,8 @@ void bind_situation(py::module_& m) {
       .def_property_readonly("is_speed_dependent",
                              static_cast<bool (SightModel::*)() const>(&SightModel::speed_dependent))
       .def_property_readonly("k_sight", &SightModel::k_sight)
-      .def_property_readonly("base_matrix", &SightModel::base_matrix)
-      .def_property_readonly("initial", &SightModel::initial)
+      .def_property_readonly("base_matrix", &SightModel::base_matrix, py::return_value_policy::copy)
+      .def_property_readonly("initial", &SightModel::initial, py::return_value_policy::copy)
       .def_property_readonly("mean_los", &SightModel::mean_los, "Mean LOS length (m); 0 for a fixed chain.")
       .def_property_readonly("mean_nlos", &SightModel::mean_nlos,
                              "Mean NLOS length (m); 0 for a fixed chain.")
@@ -119,7 +120,9 @@ void bind_situation(py::module_& m) {
           py::arg("o"), py::arg("z"), "log p(o | s = z); 0 for NaN (missing).")
       .def(
           "log_likelihood",
-          [](const QualityModel& q, const VecX& o, const VecXi& s) { return q.log_likelihood(o, s); },
+          [](const QualityModel& q, const VecX& o, const py::object& s) {
+            return q.log_likelihood(o, bind::to_sight(s, "s"));
+          },
           py::arg("o"), py::arg("s"), "log p(o | s) = sum_b log p(o_b | s_b) for o (B,) and s (B,).")
       .def(
           "log_likelihoods",
@@ -138,7 +141,10 @@ void bind_situation(py::module_& m) {
           },
           py::arg("o"), "(B, N_z) table of log p(o_b | s_b = z).")
       .def(
-          "sample", [](const QualityModel& q, const VecXi& s, Rng& rng) { return q.sample(s, rng); },
+          "sample",
+          [](const QualityModel& q, const py::object& s, Rng& rng) {
+            return q.sample(bind::to_sight(s, "s"), rng);
+          },
           py::arg("s"), py::arg("rng"), "One statistic per anchor for situation s (B,).");
 
   py::class_<ForwardFilter::Snapshot>(m, "ForwardFilterSnapshot", "State saved by ForwardFilter.save().")
@@ -166,8 +172,9 @@ void bind_situation(py::module_& m) {
            "Update with o (B,) (NaN = missing), eqs. (37)-(38); returns log p(o_t | o_1:t-1).")
       .def("step", &ForwardFilter::step, py::arg("o"), py::arg("speeds") = VecX(),
            "predict(speeds) then update(o); a rejected call changes nothing.")
-      .def_property_readonly("probabilities", &ForwardFilter::probabilities, "(B, N_z) P(s_b = z | o_b,1:t).")
-      .def_property_readonly("predicted", &ForwardFilter::predicted)
+      .def_property_readonly("probabilities", &ForwardFilter::probabilities, py::return_value_policy::copy,
+                             "(B, N_z) P(s_b = z | o_b,1:t).")
+      .def_property_readonly("predicted", &ForwardFilter::predicted, py::return_value_policy::copy)
       .def("argmax", &ForwardFilter::argmax)
       .def(
           "save",

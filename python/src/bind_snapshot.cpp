@@ -68,7 +68,12 @@ void baseline_methods(C& c) {
       .def_property_readonly(
           "sight", [](const S& s) { return VecXi(s.sight()); }, "Sight decision of the last epoch (B).")
       .def_property_readonly(
-          "unknowns", [](const S& s) { return s.solver().unknowns(); }, "D, plus 1 with RTOA rows.");
+          "unknowns", [](const S& s) { return s.solver().unknowns(); }, "D, plus 1 with RTOA rows.")
+      .def_property_readonly(
+          "options", [](const S& s) { return s.options(); }, "A copy of the options it was built with.")
+      .def_property_readonly(
+          "gauss_newton", [](const S& s) { return s.solver().options(); },
+          "A copy of the GaussNewtonOptions of its solver.");
 }
 
 }  // namespace
@@ -242,11 +247,7 @@ void bind_snapshot(py::module_& m) {
           py::arg("measurements"), py::arg("options") = UrruelaOptions(),
           py::arg("gauss_newton") = GaussNewtonOptions());
     baseline_methods<Urruela>(c);
-    c.def_property_readonly(
-         "options", [](const Urruela& u) { return u.options(); },
-         "A copy of the UrruelaOptions it was built with.")
-        .def_property_readonly("hypotheses", &Urruela::hypotheses,
-                               "LOS anchor bit masks of the trellis states.")
+    c.def_property_readonly("hypotheses", &Urruela::hypotheses, "LOS anchor bit masks of the trellis states.")
         .def_property_readonly("path_metrics", &Urruela::path_metrics, "Viterbi metrics (minimum 0).");
   }
 }

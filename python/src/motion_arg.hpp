@@ -1,11 +1,13 @@
 #pragma once
 /// \file motion_arg.hpp
-/// The `motion` argument of the Python filter constructors: any motion class of nlosloc.models, held in
-/// a variant so filters can be instantiated per concrete type (type erasure at the filter level), and the
-/// (mean, cov) pair checked into a fixed-size Gaussian.
+/// Arguments of the Python bindings: the `motion` of the filter constructors (any motion class of
+/// nlosloc.models, held in a variant so filters can be instantiated per concrete type: type erasure at the
+/// filter level), the (mean, cov) pair checked into a fixed-size Gaussian, and integer sight arrays.
 #include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -58,6 +60,36 @@ void def_set_belief(Cls& c) {
       },
       pybind11::arg("mean"), pybind11::arg("cov"), pybind11::arg("t") = pybind11::none(),
       "Replaces the belief (validated: finite mean, symmetric positive definite cov).");
+}
+
+/// Sight conditions (or any integer labels) from a 1-D or 2-D Python array, row-major; 1-D gives one
+/// row. Values must be integers (floats with integral values are accepted): an implicit cast would turn
+/// 0.5 into condition 0 without a word. The callee checks the range and the shape.
+inline Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> to_int_rows(
+    const pybind11::handle& o, const char* name) {
+  namespace py = pybind11;
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
+  if (!a || a.ndim() > 2)
+    throw std::invalid_argument(std::string(name) + ": expected an integer array of 1 or 2 dimensions");
+  const Eigen::Index rows = a.ndim() == 2 ? a.shape(0) : 1;
+  const Eigen::Index cols = a.ndim() == 0 ? 1 : a.shape(a.ndim() - 1);
+  Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> out(rows, cols);
+  const double* d = a.data();
+  for (Eigen::Index i = 0; i < out.size(); ++i) {
+    if (!(std::floor(d[i]) == d[i]) || std::fabs(d[i]) > 2147483647.0)
+      throw std::invalid_argument(std::string(name) + ": expected integers, got " + std::to_string(d[i]) +
+                                  " at entry " + std::to_string(i));
+    out.data()[i] = static_cast<int>(d[i]);
+  }
+  return out;
+}
+
+/// A (B,) vector of sight conditions (to_int_rows; one row required).
+inline VecXi to_sight(const pybind11::handle& o, const char* name = "sight") {
+  const auto m = to_int_rows(o, name);
+  if (m.rows() != 1 || pybind11::array::ensure(o).ndim() != 1)
+    throw std::invalid_argument(std::string(name) + ": expected a 1-D integer array (B,)");
+  return m.row(0).transpose();
 }
 
 }  // namespace nlosloc::bind

@@ -58,7 +58,10 @@ def test_bad_input_names_argument_and_keeps_state(cls):
     with pytest.raises(ValueError, match=r"sight: expected conditions in \[0, 2\)"):
         f.step(np.array([1.0, 2.0, 3.0]), sight=np.array([0, 5, 0]))
     check_unchanged(f, x, P, t)
-    with pytest.raises(ValueError, match="Y: expected finite values or NaN"):
+    with pytest.raises(
+        ValueError,
+        match=r"^step 1: Y: expected finite values, or NaN for a missing row; got inf at row 1$",
+    ):
         f.run(np.array([[1.0, 2.0, 3.0], [1.0, np.inf, 3.0]]))
     check_unchanged(f, x, P, t)
     with pytest.raises(ValueError, match="sight: expected shape"):

@@ -89,6 +89,10 @@ class Kf:
         """
         motion: any motion model; H (m, n); R (m, m) SPD; initial belief N(mean, cov).
         """
+    def belief(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        The belief as a tuple (mean (n,), cov (n, n)).
+        """
     def predict(self) -> None:
         """
         Prediction x = F x, P = F P F^T + Q; time advances by dt.
@@ -106,6 +110,16 @@ class Kf:
         Update with y (m,), NaN = missing.
         """
     @property
+    def H(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (m, n).
+        """
+    @property
+    def R(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (m, m).
+        """
+    @property
     def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         Posterior covariance, shape (n, n).
@@ -118,6 +132,14 @@ class Kf:
         """
         Posterior mean, shape (n,).
         """
+    @property
+    def motion(self) -> typing.Any:
+        """
+        The motion model (a copy).
+        """
+    @property
+    def rows(self) -> int:
+        ...
     @property
     def time(self) -> float:
         """
@@ -129,6 +151,10 @@ class Ekf:
     """
     def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         ...
+    def belief(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        The belief as a tuple (mean (n,), cov (n, n)).
+        """
     def predict(self) -> None:
         """
         Prediction x = F x, P = F P F^T + Q; time advances by dt.
@@ -165,6 +191,11 @@ class Ekf:
     @property
     def measurements(self) -> nlosloc._core.models.MeasurementStack:
         ...
+    @property
+    def motion(self) -> typing.Any:
+        """
+        The motion model (a copy).
+        """
     @property
     def time(self) -> float:
         """
@@ -176,6 +207,10 @@ class Ukf:
     """
     def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], scheme: nlosloc._core.core.SigmaScheme = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         ...
+    def belief(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        The belief as a tuple (mean (n,), cov (n, n)).
+        """
     def predict(self) -> None:
         """
         Prediction x = F x, P = F P F^T + Q; time advances by dt.
@@ -213,9 +248,24 @@ class Ukf:
     def measurements(self) -> nlosloc._core.models.MeasurementStack:
         ...
     @property
+    def motion(self) -> typing.Any:
+        """
+        The motion model (a copy).
+        """
+    @property
+    def scheme(self) -> nlosloc._core.core.SigmaScheme:
+        """
+        The sigma-point scheme (a copy).
+        """
+    @property
     def time(self) -> float:
         """
         Time of the belief (s).
+        """
+    @property
+    def weights(self) -> nlosloc._core.core.SigmaWeights:
+        """
+        The sigma-point weights of the update (a copy).
         """
 class UkfAugmented:
     """
@@ -223,6 +273,10 @@ class UkfAugmented:
     """
     def __init__(self, motion: typing.Any, measurements: nlosloc._core.models.MeasurementStack, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], scheme: nlosloc._core.core.SigmaScheme = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         ...
+    def belief(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        The belief as a tuple (mean (n,), cov (n, n)).
+        """
     def predict(self) -> None:
         """
         Prediction x = F x, P = F P F^T + Q; time advances by dt.
@@ -244,6 +298,11 @@ class UkfAugmented:
         Update with y (m,) (NaN = missing row) and optional sight (B,) ints (default all LOS). Returns a StepResult with the predictive log-likelihood.
         """
     @property
+    def augmented_dim(self) -> int:
+        """
+        n + q: the state plus the measurement noise inputs in the sigma points (Huerta eq. 49).
+        """
+    @property
     def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         Posterior covariance, shape (n, n).
@@ -260,7 +319,22 @@ class UkfAugmented:
     def measurements(self) -> nlosloc._core.models.MeasurementStack:
         ...
     @property
+    def motion(self) -> typing.Any:
+        """
+        The motion model (a copy).
+        """
+    @property
+    def scheme(self) -> nlosloc._core.core.SigmaScheme:
+        """
+        The sigma-point scheme (a copy).
+        """
+    @property
     def time(self) -> float:
         """
         Time of the belief (s).
+        """
+    @property
+    def weights(self) -> nlosloc._core.core.SigmaWeights:
+        """
+        The sigma-point weights of the update (a copy).
         """

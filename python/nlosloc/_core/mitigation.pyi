@@ -513,16 +513,22 @@ class QpBiasEkf:
         """
         motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4).
         """
+    def belief(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        The belief as a tuple (mean (4,), cov (4, 4)).
+        """
     def predict(self) -> None:
         """
         Eqs. (20)-(21).
         """
     def run(self, Z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], first_is_update: bool = True) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        Runs over ranges Z (T, M); returns the means (T, 4). Row 0 is an update only by default.
+        Runs over ranges Z (T, M); returns the means (T, 4). Row 0 is an update only by default. Every row is checked before the first step.
         """
-    def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
-        ...
+    def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex | None = None) -> None:
+        """
+        Replaces the belief and, when t is given, the time; clears the last bias and decision.
+        """
     def step(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> MitigationStep:
         """
         predict() then update(z).
@@ -537,7 +543,7 @@ class QpBiasEkf:
     @property
     def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        b^ of the last update (M,).
+        b^ of the last update (M,) (a copy).
         """
     @property
     def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -548,6 +554,11 @@ class QpBiasEkf:
     @property
     def mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
+    @property
+    def motion(self) -> nlosloc._core.models.ConstantVelocity2:
+        """
+        The motion model (a copy).
+        """
     @property
     def nlos_detected(self) -> bool:
         ...
@@ -600,25 +611,42 @@ class BiasAugmentedEkf:
         ...
     def predict(self) -> None:
         ...
-    def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
-        ...
+    def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex | None = None) -> None:
+        """
+        Sets the kinematic belief and, when t is given, the time; resets the biases to the prior.
+        """
     def step(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> nlosloc._core.filters.StepResult:
         ...
     def update(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> nlosloc._core.filters.StepResult:
         ...
     @property
+    def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (M, 2).
+        """
+    @property
     def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
     @property
     def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
-        ...
+        """
+        Covariance (4 + M, 4 + M) (a copy).
+        """
     @property
     def kinematic_mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
     @property
     def mean(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
-        [x, y, vx, vy, b_1..b_M].
+        [x, y, vx, vy, b_1..b_M] (a copy).
+        """
+    @property
+    def num_anchors(self) -> int:
+        ...
+    @property
+    def options(self) -> BiasAugmentedEkfOptions:
+        """
+        The settings (a copy).
         """
     @property
     def state_dim(self) -> int:

@@ -421,7 +421,7 @@ class MeasurementStack:
         """
     def noise(self, i: typing.SupportsInt | typing.SupportsIndex, condition: typing.SupportsInt | typing.SupportsIndex) -> nlosloc._core.noise.Distribution:
         ...
-    def noise_moments(self, x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+    def noise_moments(self, x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
         """
         (mean, cov) of the noise under `sight` at x.
         """
@@ -429,7 +429,7 @@ class MeasurementStack:
         """
         Noise-free prediction g(x), shape (rows,).
         """
-    def predict_augmented(self, x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], t: typing.SupportsFloat | typing.SupportsIndex, u: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    def predict_augmented(self, x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], t: typing.SupportsFloat | typing.SupportsIndex, u: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         g(x) plus noise built from standard normals u (noise_dim,) through each quantile map.
         """

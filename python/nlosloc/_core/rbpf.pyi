@@ -248,6 +248,10 @@ class Rbpf:
         """
         The Gaussian summary as a tuple (mean (n,), cov (n, n)).
         """
+    def check_inputs(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        """
+        Raises the ValueError a step with y (m,) and o (B,) would raise, changing nothing (run() checks every row this way before its first step).
+        """
     def log_weight(self, i: typing.SupportsInt | typing.SupportsIndex) -> float:
         """
         Normalised log weight of particle i.
@@ -339,6 +343,10 @@ class ParticleFilter:
         """
         The Gaussian summary as a tuple (mean (n,), cov (n, n)).
         """
+    def check_inputs(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        """
+        Raises the ValueError a step with y (m,) and o (B,) would raise, changing nothing (run() checks every row this way before its first step).
+        """
     def reset(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         """
         Restarts from N(mean, cov) at time t0 (validated; a rejected call changes nothing).
@@ -411,6 +419,10 @@ class Iukf:
     def belief(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
         """
         The Gaussian summary as a tuple (mean (n,), cov (n, n)).
+        """
+    def check_inputs(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        """
+        Raises the ValueError a step with y (m,) and o (B,) would raise, changing nothing (run() checks every row this way before its first step).
         """
     def predict(self) -> None:
         ...

@@ -165,7 +165,7 @@ class QualityModel:
         log p(o | s = z); 0 for NaN (missing).
         """
     @typing.overload
-    def log_likelihood(self, o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], s: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"]) -> float:
+    def log_likelihood(self, o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], s: typing.Any) -> float:
         """
         log p(o | s) = sum_b log p(o_b | s_b) for o (B,) and s (B,).
         """
@@ -177,7 +177,7 @@ class QualityModel:
         """
         log p(o | s = z) for every z, shape (N_z,).
         """
-    def sample(self, s: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], rng: nlosloc._core.core.Rng) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    def sample(self, s: typing.Any, rng: nlosloc._core.core.Rng) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         One statistic per anchor for situation s (B,).
         """

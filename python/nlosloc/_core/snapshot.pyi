@@ -286,6 +286,16 @@ class MleLos:
         True when solve() decides the sight.
         """
     @property
+    def gauss_newton(self) -> GaussNewtonOptions:
+        """
+        A copy of the GaussNewtonOptions of its solver.
+        """
+    @property
+    def options(self) -> GaussNewtonOptions:
+        """
+        A copy of the options it was built with.
+        """
+    @property
     def sight(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         """
         Sight decision of the last epoch (B).
@@ -323,6 +333,16 @@ class Chen:
     def combinations(self) -> list[int]:
         """
         Anchor bit masks of the combinations.
+        """
+    @property
+    def gauss_newton(self) -> GaussNewtonOptions:
+        """
+        A copy of the GaussNewtonOptions of its solver.
+        """
+    @property
+    def options(self) -> ChenOptions:
+        """
+        A copy of the options it was built with.
         """
     @property
     def sight(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
@@ -364,9 +384,19 @@ class Cong:
         True when the last epoch found a LOS set.
         """
     @property
+    def gauss_newton(self) -> GaussNewtonOptions:
+        """
+        A copy of the GaussNewtonOptions of its solver.
+        """
+    @property
     def nlos_noise(self) -> list[RowNoise]:
         """
         Fitted split normal of each row's NLOS noise.
+        """
+    @property
+    def options(self) -> CongOptions:
+        """
+        A copy of the options it was built with.
         """
     @property
     def sight(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
@@ -403,6 +433,11 @@ class Urruela:
         True when solve() decides the sight.
         """
     @property
+    def gauss_newton(self) -> GaussNewtonOptions:
+        """
+        A copy of the GaussNewtonOptions of its solver.
+        """
+    @property
     def hypotheses(self) -> list[int]:
         """
         LOS anchor bit masks of the trellis states.
@@ -410,7 +445,7 @@ class Urruela:
     @property
     def options(self) -> UrruelaOptions:
         """
-        A copy of the UrruelaOptions it was built with.
+        A copy of the options it was built with.
         """
     @property
     def path_metrics(self) -> list[float]:

@@ -1,0 +1,219 @@
+"""Input checks across the Python API: batch runs check every row before the first step, integer
+arguments reject fractions, state layouts and row indices are checked, infinite measurements are
+errors (NaN is missing) everywhere, getters return copies, and the C++ accessors have Python
+twins."""
+
+import numpy as np
+import pytest
+
+from nlosloc import core, filters, mitigation, models, noise, rbpf, situation, snapshot
+from test_filters_api import MOTION, P0, X0, stack
+from test_rbpf import MOTION as MOTION6
+from test_rbpf import P0 as P06
+from test_rbpf import QUALITY, SIGHT, track
+from test_rbpf import X0 as X06
+from test_rbpf import stack as stack6
+from test_snapshot import rtoa_stack
+
+Y3 = np.array([1420.0, 7650.0, 6700.0])
+INF_ROW = r"expected finite values, or NaN for a missing row; got inf at row"
+
+
+def state(f, names):
+    out = []
+    for n in names:
+        v = getattr(f, n)
+        out.append(np.array(v() if callable(v) else v, copy=True))
+    return out
+
+
+def assert_same(a, b):
+    for x, y in zip(a, b, strict=True):
+        np.testing.assert_array_equal(x, y)
+
+
+@pytest.mark.parametrize("cls", [filters.Ekf, filters.Ukf, filters.UkfAugmented])
+def test_run_with_no_rows(cls):
+    f = cls(MOTION, stack(), X0, P0)
+    for sight in (None, np.zeros(3, dtype=int), np.zeros((0, 3), dtype=int)):
+        out = f.run(np.zeros((0, 3)), sight=sight)
+        assert out["mean"].shape == (0, 4)
+        assert out["cov"].shape == (0, 4, 4)
+    assert f.time == 0.0
+
+
+def test_sight_arguments_must_be_integers():
+    f = filters.Ukf(MOTION, stack(), X0, P0)
+    g = filters.Ukf(MOTION, stack(), X0, P0)
+    with pytest.raises(ValueError, match=r"^sight: expected integers, got 0\.500000 at entry 0$"):
+        f.step(Y3, sight=np.array([0.5, 1.0, 0.0]))
+    assert f.time == 0.0
+    # integral floats are integers
+    f.step(Y3, sight=np.array([0.0, 1.0, 0.0]))
+    g.step(Y3, sight=np.array([0, 1, 0]))
+    np.testing.assert_array_equal(f.mean, g.mean)
+    with pytest.raises(ValueError, match=r"^sight: expected integers, got 1\.500000 at entry 4$"):
+        f.run(np.tile(Y3, (2, 1)), sight=np.array([[0, 0, 0], [0, 1.5, 0]]))
+    st = stack()
+    with pytest.raises(ValueError, match="^sight: expected integers"):
+        st.noise_moments(X0, np.array([0.0, 0.2, 0.0]))
+    with pytest.raises(ValueError, match="^sight: expected a 1-D integer array"):
+        st.noise_moments(X0, np.zeros((1, 3)))
+    q = situation.QualityModel([noise.Beta(4.0, 1.5), noise.Beta(1.5, 4.0)])
+    with pytest.raises(ValueError, match="^s: expected integers"):
+        q.log_likelihood(np.array([0.5, 0.5]), np.array([0.0, 0.9]))
+
+
+def test_layout_indices_are_checked_and_the_layout_is_a_copy():
+    layout = models.ConstantVelocity2.layout()
+    layout.clock_bias = 7
+    with pytest.raises(ValueError, match=r"^layout: clock_bias = 7 does not fit a state of 4"):
+        models.MeasurementStack(layout, np.zeros((3, 2)), 2)
+    layout = models.ConstantVelocity2.layout()
+    layout.velocity = 3
+    with pytest.raises(ValueError, match=r"^layout: velocity = 3 does not fit"):
+        models.MeasurementStack(layout, np.zeros((3, 2)), 2)
+    st = stack()
+    st.layout.clock_bias = 2  # changes a copy, not the stack
+    assert st.layout.clock_bias == -1
+
+
+def test_row_queries_check_the_index():
+    st = stack()
+    with pytest.raises(IndexError, match=r"^i: expected a row index in \[0, 3\), got 10$"):
+        st.row(10)
+    with pytest.raises(IndexError, match=r"^i: expected a row index in \[0, 3\), got -1$"):
+        st.is_angle(-1)
+    with pytest.raises(IndexError, match=r"^z: expected a sight condition in \[0, 2\), got 5$"):
+        st.noise(0, 5)
+    assert not st.is_angle(2)
+
+
+def particle_filters():
+    yield rbpf.Rbpf(MOTION6, stack6(), SIGHT, QUALITY, X06, P06, rbpf.RbpfOptions(num_particles=8))
+    yield rbpf.ParticleFilter(
+        MOTION6, stack6(), SIGHT, QUALITY, X06, P06, rbpf.PfOptions(num_particles=64, seed=1)
+    )
+    yield rbpf.Iukf(MOTION6, stack6(), SIGHT, QUALITY, X06, P06)
+
+
+@pytest.mark.parametrize("f", list(particle_filters()), ids=["Rbpf", "ParticleFilter", "Iukf"])
+def test_quality_runs_check_every_row_before_the_first_step(f):
+    Y, Q, _, _ = track(steps=6)
+    names = ("estimate", "covariance", "situation_probabilities", "time")
+    before = state(f, names)
+    bad = Y.copy()
+    bad[2, 0] = np.inf
+    with pytest.raises(ValueError, match=rf"^step 2: y: {INF_ROW} 0$"):
+        f.run(bad, Q)
+    assert_same(before, state(f, names))
+    bad = Q.copy()
+    bad[1, 3] = -np.inf
+    with pytest.raises(ValueError, match=r"^step 1: o: .*got inf at anchor 3$"):
+        f.run(Y, bad)
+    bad = Q.copy()
+    bad[4, 0] = 2.0  # outside both Beta supports
+    msg = "^step 4: o: statistic of anchor 0 has zero density under every condition$"
+    with pytest.raises(ValueError, match=msg):
+        f.run(Y, bad)
+    msg = r"^Y, O: expected the same number of steps \(rows\), got 6 and 5$"
+    with pytest.raises(ValueError, match=msg):
+        f.run(Y, Q[:5])
+    assert_same(before, state(f, names))
+    with pytest.raises(ValueError, match=rf"^y: {INF_ROW} 0$"):
+        f.check_inputs(np.r_[np.inf, Y[0, 1:]], Q[0])
+    f.check_inputs(Y[0], Q[0])  # good inputs: nothing raised, nothing changed
+    assert_same(before, state(f, names))
+    out = f.run(Y, Q)
+    assert out["mean"].shape == (6, 6)
+
+
+def test_numerical_error_in_a_run_names_the_step():
+    st = models.MeasurementStack(models.ConstantVelocity2.layout(), np.zeros((3, 2)), 1)
+    for b in range(3):
+        st.add_toa(b, [noise.Normal(0.0, 50.0)])
+    # A belief so far out that S overflows at the second update.
+    f = filters.Ekf(MOTION, st, np.array([8e153, 8e153, 1e154, 1e154]), np.eye(4))
+    Y = np.tile([1.2e154, np.nan, np.nan], (4, 1))
+    msg = r"^step 1 \(the filter holds step 0\): Ekf.update"
+    with pytest.raises(core.NumericalError, match=msg):
+        f.run(Y)
+    assert f.time == pytest.approx(MOTION.dt)
+
+
+ANCHORS = np.array([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]])
+EXACT = np.array([5.0, np.hypot(7.0, 4.0), np.hypot(3.0, 6.0)])  # from (3, 4)
+
+
+def test_mitigation_filters_checks_copies_and_time():
+    motion = models.ConstantVelocity2(0.1, 1.0, models.VelocityNoise.WhiteAcceleration)
+    mean, cov = np.array([3.0, 4.0, 0.0, 0.0]), np.eye(4)
+    f = mitigation.QpBiasEkf(motion, ANCHORS, mean, cov)
+    with pytest.raises(ValueError, match=r"^z: expected shape \(3, 1\), got \(2, 1\)$"):
+        f.step(EXACT[:2])
+    Z = np.tile(EXACT, (3, 1))
+    Z[1, 2] = np.inf
+    with pytest.raises(ValueError, match=rf"^step 1: Z: {INF_ROW} 2$"):
+        f.run(Z)
+    assert f.time == 0.0
+    np.testing.assert_array_equal(f.mean, mean)
+    f.run(np.tile(EXACT, (3, 1)))
+    t = f.time
+    assert t == pytest.approx(0.2)
+    f.set_belief(mean, cov)  # no t: the time stays
+    assert f.time == t
+    f.set_belief(mean, cov, t=1.0)
+    assert f.time == 1.0
+    b = f.bias
+    m, c = f.belief()
+    f.step(EXACT + np.array([0.0, 30.0, 0.0]))
+    assert np.array_equal(b, np.zeros(3)) and np.array_equal(m, mean)  # copies, not views
+    assert f.motion.dt == motion.dt
+    g = mitigation.BiasAugmentedEkf(motion, ANCHORS, mean, cov)
+    x = g.mean
+    g.step(EXACT)
+    assert not np.shares_memory(x, g.mean)
+    assert g.num_anchors == 3
+    np.testing.assert_array_equal(g.anchors, ANCHORS)
+    assert g.options.iterations == mitigation.BiasAugmentedEkfOptions().iterations
+    g.set_belief(mean, cov)
+    assert g.time == pytest.approx(0.1)
+    est = mitigation.BiasEstimator(ANCHORS)
+    with pytest.raises(ValueError, match=rf"^z: {INF_ROW} 1$"):
+        est.estimate_from_innovation(np.array([5.0, np.inf, 6.0]), np.zeros(3), np.eye(3))
+
+
+def test_snapshot_estimators_reject_inf_and_expose_options():
+    st = rtoa_stack()
+    y = np.full(st.rows, 3000.0)
+    y[1] = np.inf
+    o = snapshot.ChenOptions()
+    o.reject_fraction = 0.25
+    gn = snapshot.GaussNewtonOptions()
+    for est in (snapshot.MleLos(st), snapshot.Chen(st, o), snapshot.Cong(st), snapshot.Urruela(st)):
+        with pytest.raises(ValueError, match=rf"^y: {INF_ROW} 1$"):
+            est.solve(y)
+        assert est.gauss_newton.max_iterations == gn.max_iterations
+    assert snapshot.Chen(st, o).options.reject_fraction == 0.25
+    assert snapshot.MleLos(st).options.max_iterations == gn.max_iterations
+
+
+def test_filter_accessors_have_python_twins():
+    H = np.eye(2, 4)
+    kf = filters.Kf(MOTION, H, 2.0 * np.eye(2), X0, P0)
+    np.testing.assert_array_equal(kf.H, H)
+    np.testing.assert_array_equal(kf.R, 2.0 * np.eye(2))
+    assert kf.rows == 2
+    m, c = kf.belief()
+    np.testing.assert_array_equal(m, X0)
+    np.testing.assert_array_equal(c, P0)
+    assert kf.motion.dt == MOTION.dt
+    u = filters.Ukf(MOTION, stack(), X0, P0, core.SigmaScheme.scaled(0.5, 2.0, 0.0))
+    assert u.scheme.alpha == 0.5
+    assert u.weights.gamma == pytest.approx(0.5 * 2.0)  # alpha sqrt(n + kappa), n = 4
+    a = filters.UkfAugmented(MOTION, stack(), X0, P0)
+    assert a.augmented_dim == 4 + 3
+    fwd = situation.ForwardFilter(SIGHT, QUALITY)
+    p = fwd.probabilities
+    fwd.update(np.full(6, 0.9))
+    assert not np.array_equal(p, fwd.probabilities)  # p kept the old values: a copy
