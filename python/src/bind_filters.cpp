@@ -82,8 +82,8 @@ py::dict run_batch(
   bool per_step = false;
   const bool have_sight = !sight_obj.is_none();
   if (have_sight) {
-    S = bind::to_int_rows(sight_obj, "sight");
-    const auto ndim = py::array::ensure(sight_obj).ndim();
+    int ndim = 0;
+    S = bind::to_int_rows(sight_obj, "sight", &ndim);
     per_step = ndim == 2;
     if (!((ndim == 1 && S.cols() == B) || (per_step && S.rows() == T && S.cols() == B)))
       throw std::invalid_argument("sight: expected shape (B,) or (T, B) with B = " + std::to_string(B) +

@@ -291,7 +291,7 @@ TEST_CASE("measurement stack rejects bad input with named arguments", "[models][
   CHECK_THROWS_AS(st.row(1), std::out_of_range);
   CHECK_THROWS_WITH(st.row(1), "i: expected a row index in [0, 1), got 1");
   CHECK_THROWS_WITH(st.is_angle(-1), "i: expected a row index in [0, 1), got -1");
-  CHECK_THROWS_WITH(st.noise(0, 2), "z: expected a sight condition in [0, 2), got 2");
+  CHECK_THROWS_WITH(st.noise(0, 2), "condition: expected a sight condition in [0, 2), got 2");
   CHECK(st.noise(0, 1).variance() == 1.0);
 }
 

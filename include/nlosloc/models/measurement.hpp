@@ -163,13 +163,13 @@ class MeasurementStack {
     return angle_row(i);
   }
   bool has_angles() const { return has_angles_; }
-  /// Noise distribution of row i (first anchor for TDOA) under condition z.
-  const Dist& noise(int i, int z) const {
+  /// Noise distribution of row i (first anchor for TDOA) under sight condition `condition`.
+  const Dist& noise(int i, int condition) const {
     check_row(i, "i");
-    if (z < 0 || z >= num_conditions_)  // std::out_of_range: IndexError in Python, as for i
-      throw std::out_of_range("z: expected a sight condition in [0, " + std::to_string(num_conditions_) +
-                              "), got " + std::to_string(z));
-    return noise_[static_cast<std::size_t>(i)][static_cast<std::size_t>(z)];
+    if (condition < 0 || condition >= num_conditions_)  // std::out_of_range: IndexError in Python, as for i
+      throw std::out_of_range("condition: expected a sight condition in [0, " +
+                              std::to_string(num_conditions_) + "), got " + std::to_string(condition));
+    return noise_[static_cast<std::size_t>(i)][static_cast<std::size_t>(condition)];
   }
 
   /// Throws unless `sight` has one entry per anchor with values in [0, num_conditions).
