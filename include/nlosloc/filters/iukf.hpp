@@ -74,7 +74,7 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
     fwd_.save(fsave_);  // preallocated: no copy of the chains
     this->predict();
     try {
-      if (fwd_.process().speed_dependent()) {
+      if (fwd_.process().speed_dependent()) {  // eq. (10) at the predicted mean (the paper does not say)
         const auto& L = meas_.layout();
         situation::transversal_speeds(this->x_.segment(L.position, L.space_dim),
                                       this->x_.segment(L.velocity, L.space_dim), meas_.anchors(), speeds_);

@@ -436,7 +436,10 @@ class Rbpf {
   static MatX& factors(ThreadWork& w, int p) { return w.apar[static_cast<std::size_t>(p - w.first)]; }
   static double best_of(const ThreadWork& w, int p) { return w.best[static_cast<std::size_t>(p - w.first)]; }
 
-  /// A(b, z) = log P(s_b,t = z | s_b,t-1) + log p(o_b | z) for parent p (eqs. 9, 25, 32).
+  /// A(b, z) = log P(s_b,t = z | s_b,t-1) + log p(o_b | z) for parent p (eqs. 9, 25, 32). The transversal
+  /// speed of eq. (10) is taken at the parent's posterior mean x_t-1|t-1 (the paper does not say which
+  /// state; the joint PF also uses each particle's x_t-1, the IUKF its predicted mean; at H2's dt = 0.01 s
+  /// the three differ negligibly).
   void parent_factors(int p, long k, ThreadWork& w, MatX& A) const {
     if (sight_.speed_dependent()) {
       const auto& L = meas_.layout();
