@@ -20,13 +20,16 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "cli_decimal.hpp"
 #include "nlosloc/sim/k2.hpp"
 #include "nlosloc/sim/k3.hpp"
 #include "nlosloc/sim/metrics.hpp"
@@ -135,6 +138,15 @@ int cmd_run(const Registry& reg, RunArgs a) {
       throw UsageError("unknown estimator '" + e + "' for scenario " + a.scenario + "; expected one of: " +
                        (registered.empty() ? std::string("(none registered)") : join(registered)));
   if (a.estimators.empty()) throw UsageError("scenario " + a.scenario + " has no registered estimator");
+  // results are keyed by name in the tables and the JSON: a repeat would run twice and keep one
+  for (std::size_t i = 0; i < a.cases.size(); ++i)
+    if (std::find(a.cases.begin(), a.cases.begin() + static_cast<long>(i), a.cases[i]) !=
+        a.cases.begin() + static_cast<long>(i))
+      throw UsageError("--case: '" + a.cases[i] + "' given more than once");
+  for (std::size_t i = 0; i < a.estimators.size(); ++i)
+    if (std::find(a.estimators.begin(), a.estimators.begin() + static_cast<long>(i), a.estimators[i]) !=
+        a.estimators.begin() + static_cast<long>(i))
+      throw UsageError("--estimators: '" + a.estimators[i] + "' given more than once");
   if (a.runs < 1) throw UsageError("--runs: expected >= 1, got " + std::to_string(a.runs));
   if (a.threads < 0)
     throw UsageError("--threads: expected >= 0 (0 = all cores), got " + std::to_string(a.threads));
@@ -142,6 +154,14 @@ int cmd_run(const Registry& reg, RunArgs a) {
   if (steps <= s.discard())
     throw UsageError("--steps: expected more than the " + std::to_string(s.discard()) +
                      " discarded samples, got " + std::to_string(steps));
+
+  if (!a.json.empty()) {  // found now, not after the whole run
+    const std::filesystem::path path(a.json);
+    const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
+    if (!std::filesystem::is_directory(dir) || ::access(dir.c_str(), W_OK) != 0 ||
+        std::filesystem::is_directory(path))
+      throw UsageError("--json: cannot write " + a.json + " (its directory is missing or not writable)");
+  }
 
   const auto t0 = Clock::now();
   fmt::print("{}\n", sim::format_choices(s));
@@ -240,20 +260,21 @@ int main(int argc, char** argv) {
   CLI::App* run = app.add_subcommand("run", "Run a scenario's Monte Carlo and print the tables");
   RunArgs a;
   run->add_option("scenario", a.scenario, "Scenario name (see list)")->required();
-  CLI::Option* runs_opt = run->add_option("--runs,-n", a.runs, "Monte Carlo runs (default 100)");
-  // strtoull, under CLI11's conversion, turns "-1" into 2^64 - 1: refuse the sign before converting
-  const CLI::Validator unsigned_integer(
-      [](std::string& v) {
-        return v.find('-') == std::string::npos ? std::string() : "expected an integer >= 0, got " + v;
-      },
-      "UINT");
+  // decimal(): CLI11 alone reads "010" as 8 and clamps out-of-range values (and strtoull turns "-1" into
+  // 2^64 - 1); negative counts pass to the checks below, which name them.
+  const unsigned long long int_max = static_cast<unsigned long long>(std::numeric_limits<int>::max());
+  CLI::Option* runs_opt = run->add_option("--runs,-n", a.runs, "Monte Carlo runs (default 100)")
+                              ->transform(nlosloc::bench::decimal(int_max, true));
   run->add_option("--seed,-s", a.seed, "Seed: run r draws from Rng(seed, r) (default 1)")
-      ->check(unsigned_integer);
-  run->add_option("--threads,-t", a.threads, "Worker threads (default 0 = all cores)");
-  CLI::Option* steps_opt = run->add_option("--steps", a.steps, "Steps per run (default: the scenario's)");
+      ->transform(nlosloc::bench::decimal(std::numeric_limits<std::uint64_t>::max()));
+  run->add_option("--threads,-t", a.threads, "Worker threads (default 0 = all cores)")
+      ->transform(nlosloc::bench::decimal(int_max, true));
+  CLI::Option* steps_opt = run->add_option("--steps", a.steps, "Steps per run (default: the scenario's)")
+                               ->transform(nlosloc::bench::decimal(int_max, true));
   run->add_option("--case,-c", a.cases, "Cases to run (default all)");
   run->add_option("--estimators,-e", a.estimators, "Estimators to run (default all registered)");
-  run->add_option("--json", a.json, "Write config, choices, percentiles, ECDF, RMSE, timings, paper values");
+  run->add_option("--json", a.json,
+                  "Write config, choices, percentiles, ECDF, RMSE, timings, paper values (replaces FILE)");
   run->add_flag("--quick", a.quick, "Short check: 5 runs x 400 steps unless --runs/--steps are given");
   run->add_flag("--quiet,-q", a.quiet, "No progress on stderr");
 

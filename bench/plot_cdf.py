@@ -29,6 +29,10 @@ def main(argv: list[str] | None = None) -> int:
         "--zoom", type=float, default=None, help="add a panel zoomed around this probability"
     )
     args = ap.parse_args(argv)
+    if args.zoom is not None and not 0.0 < args.zoom < 1.0:
+        ap.error(f"--zoom: expected a probability in (0, 1), got {args.zoom}")
+    if args.xmax is not None and not args.xmax > 0.0:
+        ap.error(f"--xmax: expected a positive limit (m), got {args.xmax}")
 
     import matplotlib
 
@@ -39,6 +43,10 @@ def main(argv: list[str] | None = None) -> int:
     from nlosloc import plots
 
     doc = json.loads(args.json.read_text(encoding="utf-8"))
+    if args.case is not None and args.case not in doc["results"]:
+        ap.error(
+            f"--case: {args.case!r} is not in {args.json}; expected one of {list(doc['results'])}"
+        )
     panels = 2 if args.zoom is not None else 1
     fig, axes = plt.subplots(1, panels, figsize=(6.5 * panels, 4.5), squeeze=False)
     plots.error_cdf_from_bench(doc, case=args.case, ax=axes[0][0], xmax=args.xmax)

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "../cli_decimal.hpp"
 #include "../cpu_affinity.hpp"
 #include "../h2_micro_model.hpp"
 #include "nlosloc/rbpf/phase_profile.hpp"
@@ -169,17 +170,22 @@ int main(int argc, char** argv) {
   long steps = 20000;
   bool augmented = false;
   std::vector<int> pin;
+  const auto dec = nlosloc::bench::decimal(1ULL << 40);  // CLI11 alone reads "010" as 8
   app.add_option("--particles,-M", particles, "M, particles kept per step (default 128)")
+      ->transform(dec)
       ->check(CLI::Range(1, 1 << 20));
   app.add_option("--threads", threads, "Thread counts, the first the reference (default 1,2)")
       ->delimiter(',')
+      ->transform(dec)
       ->check(CLI::Range(1, 256));
   app.add_option("--steps", steps, "Timed steps per thread count (default 20000)")
+      ->transform(dec)
       ->check(CLI::Range(1L, 1L << 40));
   app.add_flag("--augmented", augmented, "Augmented-noise UKF bank (Table III) instead of the additive one");
   app.add_option("--pin", pin, "CPU of the calling thread and CPU of the workers, e.g. 0,1 (Linux)")
       ->delimiter(',')
       ->expected(2)
+      ->transform(dec)
       ->check(CLI::Range(0, 1023));
   try {
     app.parse(argc, argv);

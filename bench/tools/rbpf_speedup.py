@@ -54,9 +54,21 @@ def run_micro(micro, name, min_time):
     raise RuntimeError(f"no result for {name}; is it registered in {micro}?")
 
 
+def parse_case(case):
+    """The key:value pairs of a --case; ValueError naming it unless reordered and M are there."""
+    pairs = [p.split(":") for p in case.split("/")]
+    if any(len(p) != 2 or not p[0] or not p[1] for p in pairs):
+        raise ValueError(f"--case {case}: expected key:value pairs joined by '/'")
+    parts = dict(pairs)
+    missing = [k for k in ("reordered", "M") if k not in parts]
+    if missing:
+        raise ValueError(f"--case {case}: missing {', '.join(missing)} (e.g. reordered:1/M:128)")
+    return parts
+
+
 def lockstep(micro, case, min_time):
     """(1-thread us, 2-thread us, speed-up) of BM_RbpfPaired for a BM_Rbpf case."""
-    parts = dict(p.split(":") for p in case.split("/"))
+    parts = parse_case(case)
     aug = parts.get("augmented", "0")
     if aug not in PAIRED_BLOCK:
         raise ValueError(f"--case {case}: augmented must be 0 or 1")
@@ -92,6 +104,11 @@ def main():
     min_time = a.min_time if a.min_time is not None else (4.0 if a.method == "lockstep" else 1.0)
     if not min_time > 0:
         ap.error("--min-time: expected > 0")
+    for case in a.case or []:
+        try:
+            parse_case(case)
+        except ValueError as e:
+            ap.error(str(e))
     for case in a.case or DEFAULT_CASES:
         ratios, t1s, t2s = [], [], []
         for r in range(a.rounds):

@@ -66,9 +66,18 @@ py::dict scenario_info(const std::string& name) {
   return info;
 }
 
+/// The `steps` argument: None is the scenario's default (0 inside C++); a number must be >= 1, since 0 given
+/// explicitly is a mistake rather than a request for the default.
+int steps_arg(std::optional<int> steps) {
+  if (steps && *steps < 1)
+    throw std::invalid_argument("steps: expected >= 1 (None: the scenario's default), got " +
+                                std::to_string(*steps));
+  return steps.value_or(0);
+}
+
 py::dict draw_dict(const sim::Scenario& s, const std::string& case_name, std::uint64_t seed,
                    std::uint64_t run, std::optional<int> steps) {
-  sim::Draw d = s.draw(case_name, seed, run, steps.value_or(0));
+  sim::Draw d = s.draw(case_name, seed, run, steps_arg(steps));
   py::dict r;
   r["scenario"] = d.scenario;
   r["case"] = d.case_name;
@@ -102,7 +111,7 @@ py::dict run_monte_carlo(const sim::Scenario& s, const std::string& case_name, i
   opt.runs = runs;
   opt.seed = seed;
   opt.threads = threads;
-  opt.steps = steps.value_or(0);
+  opt.steps = steps_arg(steps);
   // Both callbacks run on this (the calling) thread and take the GIL only while they call into Python;
   // they capture `progress` by reference, so copying them never touches reference counts without the GIL.
   if (has_progress)

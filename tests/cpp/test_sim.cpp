@@ -5,6 +5,7 @@
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -12,6 +13,8 @@
 #include "nlosloc/filters/ekf.hpp"
 #include "nlosloc/sim/estimators.hpp"
 #include "nlosloc/sim/k1.hpp"
+#include "nlosloc/sim/k2.hpp"
+#include "nlosloc/sim/k3.hpp"
 #include "nlosloc/sim/metrics.hpp"
 #include "nlosloc/sim/montecarlo.hpp"
 #include "nlosloc/sim/registry.hpp"
@@ -84,6 +87,12 @@ TEST_CASE("percentile interpolates linearly between closest ranks like numpy", "
   CHECK_THAT(ps[2], WithinAbs(48.0, 1e-12));
   CHECK_THROWS_AS(percentile(v, 101), std::invalid_argument);
   CHECK_THROWS_AS(percentile(v, -1), std::invalid_argument);
+  // A rank next to an inf is returned as it is (numpy's a + (b - a) t gives inf * 0 = NaN at t = 0).
+  const double inf = std::numeric_limits<double>::infinity();
+  CHECK(percentile({1.0, 3.0, inf}, 50) == 3.0);
+  CHECK(percentile({1.0, 3.0, inf}, 100) == inf);
+  CHECK(percentile({inf, inf}, 30) == inf);
+  CHECK(percentile({1.0, 3.0, inf}, 75) == inf);  // between 3 and inf
 }
 
 TEST_CASE("ecdf sorts and assigns rank / n, subsampling keeps both ends", "[sim][metrics]") {
@@ -115,6 +124,7 @@ TEST_CASE("rmse over time, probability within a threshold, mean, pooled errors",
   CHECK(probability_within(v, 2.0) == 0.5);  // inclusive
   CHECK(probability_within(v, 0.5) == 0.0);
   CHECK(probability_within({1.0, std::nan("")}, 10) == 0.5);
+  CHECK_THROWS_WITH(probability_within(v, std::nan("")), "threshold: expected a number, got NaN");
   CHECK(mean_of(v) == 2.5);
   CHECK(std::isnan(mean_of(std::vector<double>{})));
   CHECK(pooled_errors(e, 1) == std::vector<double>{4, 1, 0, 1});
@@ -335,6 +345,47 @@ TEST_CASE("runner progress, errors and cancellation", "[sim][montecarlo]") {
   o.progress = nullptr;
   o.runs = 0;
   CHECK_THROWS_AS(run_monte_carlo(k1, "3LOS/0NLOS", {truth_plus_noise("a")}, o), std::invalid_argument);
+  // Results are keyed by name: a repeated estimator is refused, not run twice with one kept.
+  o.runs = 1;
+  CHECK_THROWS_WITH(run_monte_carlo(k1, "3LOS/0NLOS", {truth_plus_noise("a"), truth_plus_noise("a")}, o),
+                    "estimators: 'a' appears more than once");
+  // Every statistic leaves out the first discard steps: a run no longer than that has none.
+  o.steps = 100;
+  CHECK_THROWS_WITH(run_monte_carlo(k1, "3LOS/0NLOS", {truth_plus_noise("a")}, o),
+                    "steps: expected more than the scenario's 100 discarded first steps, got 100");
+}
+
+TEST_CASE("K1, K2 and K3 parameters are checked and the message names the field", "[sim][k1]") {
+  K1Params p;
+  p.start[0] = std::nan("");
+  CHECK_THROWS_WITH(K1(p), "K1Params.start: expected finite values (no NaN or inf)");
+  p = K1Params();
+  p.initial_std[2] = 0.0;
+  CHECK_THROWS_WITH(K1(p), Contains("K1Params.initial_std[2]: expected a finite value > 0"));
+  p = K1Params();
+  p.sigma_los = std::nan("");
+  CHECK_THROWS_WITH(K1(p), Contains("K1Params.sigma_los"));
+  p = K1Params();
+  p.gamma = std::nan("");
+  CHECK_THROWS_WITH(K1(p), Contains("K1Params.gamma: expected a finite value >= 1"));
+  p = K1Params();
+  p.iterated_iterations = 0;
+  CHECK_THROWS_WITH(K1(p), "K1Params.iterated_iterations: expected >= 1, got 0");
+  K2Params q;
+  q.base.velocity[1] = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(K2(q), Contains("K2Params.base.velocity"));
+  K3Params r;
+  r.sigma_rel = -1.0;
+  CHECK_THROWS_WITH(K3(r), Contains("K3Params.sigma_rel: expected a finite value > 0"));
+  r = K3Params();
+  r.start = Vec<2>(100.0, 100.0);  // on an anchor: its noise std 0.02 d would be 0
+  CHECK_THROWS_WITH(K3(r), "K3Params.start: expected a point away from every anchor");
+  r = K3Params();
+  r.iterated_bias_prior_std = std::nan("");
+  CHECK_THROWS_WITH(K3(r), Contains("K3Params.iterated_bias_prior_std"));
+  CHECK_NOTHROW(K1());
+  CHECK_NOTHROW(K2());
+  CHECK_NOTHROW(K3());
 }
 
 TEST_CASE("K1 EKF: 67% error below 25 m with three LOS nodes", "[sim][k1][ekf]") {

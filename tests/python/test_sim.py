@@ -210,3 +210,18 @@ def test_h2_custom_params_reach_the_scenario_and_the_runner() -> None:
     )
     with pytest.raises(ValueError, match="estimator: unknown estimator 'K1-EKF' for scenario H2"):
         sim.run_monte_carlo(h, "default", 1, 3, ["K1-EKF"], 1)
+
+
+def test_runs_refuse_repeats_explicit_zero_steps_and_runs_without_statistics() -> None:
+    with pytest.raises(ValueError, match="^estimators: 'EKF' appears more than once$"):
+        sim.run_monte_carlo("K1", CASE, 1, 1, ["EKF", "EKF"], steps=200)
+    with pytest.raises(
+        ValueError, match=r"^steps: expected >= 1 \(None: the scenario's default\), got 0$"
+    ):
+        sim.run_monte_carlo("K1", CASE, 1, 1, ["EKF"], steps=0)
+    with pytest.raises(ValueError, match="^steps: expected >= 1"):
+        sim.draw("K1", CASE, 1, 0, steps=0)
+    msg = "^steps: expected more than the scenario's 100 discarded first steps, got 50$"
+    with pytest.raises(ValueError, match=msg):
+        sim.run_monte_carlo("K1", CASE, 1, 1, ["EKF"], steps=50)
+    assert sim.draw("K1", CASE, 1, 0)["y"].shape[0] == 2000  # None: the default

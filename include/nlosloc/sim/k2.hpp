@@ -28,18 +28,22 @@ struct K2Params {
 class K2 : public Scenario {
  public:
   explicit K2(const K2Params& p = K2Params())
-      : p_(p),
+      : p_(checked(p)),
         motion_(p.base.dt, p.base.accel_var, VelocityNoise::kWhiteAcceleration),
         stack_(ConstantVelocity2::layout(), p.base.anchors, 2),
         bias_(p.base.nlos_mean, p.base.nlos_std),
         los_(0.0, p.base.sigma_los) {
-    NLOSLOC_ENSURE(p.period >= 1, "K2Params.period: expected >= 1, got " + std::to_string(p.period));
-    NLOSLOC_ENSURE(p.base.steps > p.base.discard && p.base.discard >= 0,
-                   "K2Params.base: expected 0 <= discard < steps");
     for (int b = 0; b < 3; ++b)
       stack_.add_toa(b,
                      {noise::Normal(0.0, p.base.sigma_los),
                       noise::ShiftedNormal(p.base.nlos_mean, std::hypot(p.base.sigma_los, p.base.nlos_std))});
+  }
+
+  /// `p` if every field is in range, else std::invalid_argument naming the field (K2Params.base.<field>).
+  static const K2Params& checked(const K2Params& p) {
+    NLOSLOC_ENSURE(p.period >= 1, "K2Params.period: expected >= 1, got " + std::to_string(p.period));
+    K1::checked(p.base, "K2Params.base");
+    return p;
   }
 
   std::string name() const override { return "K2"; }

@@ -47,18 +47,35 @@ class K3 : public Scenario {
   static constexpr const char* kEkf = K1::kEkf;
   static constexpr const char* kProposedSoft = K1::kProposedSoft;
 
+  /// Throws std::invalid_argument naming the first bad field ("K3Params.<field>: expected ...").
   explicit K3(const K3Params& p = K3Params())
-      : p_(p),
+      : p_(checked(p)),
         motion_(p.dt, p.accel_var, VelocityNoise::kWhiteAcceleration),
         stack_(ConstantVelocity2::layout(), p.good, 2) {
-    NLOSLOC_ENSURE(p.steps > p.discard && p.discard >= 0,
-                   "K3Params: expected 0 <= discard < steps, got discard " + std::to_string(p.discard));
     // Descriptive stack (good geometry): noise std 0.02 d at the start, NLOS shifted by its mean 0.08 d.
     for (int b = 0; b < 4; ++b) {
       const double d = (p.start - p.good.row(b).transpose()).norm();
       stack_.add_toa(b, {noise::Normal(0.0, p.sigma_rel * d),
                          noise::ShiftedNormal(p.nlos_rel * d, std::hypot(p.sigma_rel * d, p.nlos_rel * d))});
     }
+  }
+
+  /// `p` if every field is in range, else std::invalid_argument naming the field. Runs before the members
+  /// are built, so the message names the field rather than a model's argument.
+  static const K3Params& checked(const K3Params& p) {
+    nlosloc::detail::ensure_finite(p.good, "K3Params.good");
+    nlosloc::detail::ensure_finite(p.bad, "K3Params.bad");
+    nlosloc::detail::ensure_positive(p.sigma_rel, "K3Params.sigma_rel");
+    nlosloc::detail::ensure_positive(p.nlos_rel, "K3Params.nlos_rel");
+    nlosloc::detail::ensure_positive(p.threshold, "K3Params.threshold");
+    check_ke_wu_params("K3Params", p.start, p.velocity, p.accel_var, p.steps, p.discard, p.dt, p.initial_std,
+                       p.gamma, p.iterated_bias_prior_std, p.iterated_bias_walk_std, p.iterated_iterations);
+    // the start must not sit on an anchor: the noise std 0.02 d would be 0
+    for (const auto* g : {&p.good, &p.bad})
+      for (int b = 0; b < 4; ++b)
+        NLOSLOC_ENSURE((p.start - g->row(b).transpose()).norm() > 0.0,
+                       "K3Params.start: expected a point away from every anchor");
+    return p;
   }
 
   std::string name() const override { return "K3"; }

@@ -20,9 +20,14 @@ inline constexpr double kMetricNaN = std::numeric_limits<double>::quiet_NaN();
 inline void check_percent(double q) {
   NLOSLOC_ENSURE(q >= 0.0 && q <= 100.0, "q: expected a percentage in [0, 100], got " + std::to_string(q));
 }
-/// numpy's _lerp: a + (b - a) t, computed from b when t >= 0.5 (so t = 1 gives b exactly).
+/// numpy's _lerp: a + (b - a) t, computed from b when t >= 0.5 (so t = 1 gives b exactly). At a rank
+/// itself (t = 0, or a = b) the value is returned as it is, so an inf beside it does not turn it into
+/// inf * 0 = NaN (numpy's formula would).
 inline double lerp(double a, double b, double t) {
+  if (t == 0.0 || a == b) return a;
   const double diff = b - a;
+  if (std::isinf(diff))
+    return a + diff * t;  // t > 0 towards an infinite rank: infinite (b - diff would be NaN)
   return t >= 0.5 ? b - diff * (1.0 - t) : a + diff * t;
 }
 }  // namespace detail
@@ -99,6 +104,7 @@ inline VecX rmse_over_time(const RowMatX& errors) {
 /// Fraction of values <= threshold (Ke & Wu Sec. 6.4: probability that the error is at most 5 m). NaN counts
 /// as above the threshold; NaN for an empty input.
 inline double probability_within(const std::vector<double>& values, double threshold) {
+  NLOSLOC_ENSURE(!std::isnan(threshold), "threshold: expected a number, got NaN");
   if (values.empty()) return detail::kMetricNaN;
   const auto c =
       std::count_if(values.begin(), values.end(), [threshold](double v) { return v <= threshold; });

@@ -102,8 +102,16 @@ inline MonteCarloResult run_monte_carlo(const Scenario& scenario, const std::str
                  "steps: expected >= 0 (0 = the scenario's default), got " + std::to_string(opt.steps));
   NLOSLOC_ENSURE(opt.poll_interval_ms > 0, "poll_interval_ms: expected > 0");
   NLOSLOC_ENSURE(!estimators.empty(), "estimators: expected at least one estimator");
-  for (const auto& e : estimators)
-    NLOSLOC_ENSURE(bool(e.make), "estimators: '" + e.name + "' has no factory");
+  for (std::size_t i = 0; i < estimators.size(); ++i) {
+    NLOSLOC_ENSURE(bool(estimators[i].make), "estimators: '" + estimators[i].name + "' has no factory");
+    for (std::size_t j = 0; j < i; ++j)  // results are keyed by name: a repeat would overwrite the first
+      NLOSLOC_ENSURE(estimators[j].name != estimators[i].name,
+                     "estimators: '" + estimators[i].name + "' appears more than once");
+  }
+  const int steps = opt.steps > 0 ? opt.steps : scenario.steps();
+  NLOSLOC_ENSURE(steps > scenario.discard(), "steps: expected more than the scenario's " +
+                                                 std::to_string(scenario.discard()) +
+                                                 " discarded first steps, got " + std::to_string(steps));
 
   const auto wall0 = std::chrono::steady_clock::now();
   MonteCarloResult res;
@@ -111,7 +119,7 @@ inline MonteCarloResult run_monte_carlo(const Scenario& scenario, const std::str
   res.case_name = case_name;
   res.case_index = scenario.case_index(case_name);
   res.runs = opt.runs;
-  res.steps = opt.steps > 0 ? opt.steps : scenario.steps();
+  res.steps = steps;
   res.discard = scenario.discard();
   res.seed = opt.seed;
   res.dt = scenario.dt();
@@ -172,7 +180,7 @@ inline MonteCarloResult run_monte_carlo(const Scenario& scenario, const std::str
             }
           }
           if (sighted) {
-            const int from = std::min(scenario.discard(), T - 1);
+            const int from = scenario.discard();  // < T (checked above)
             for (Eigen::Index b = 0; b < B; ++b) {
               int hits = 0;
               for (int k = from; k < T; ++k) hits += sight_hat(b, k) == d.sight(k, b);
