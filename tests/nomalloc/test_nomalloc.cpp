@@ -1,6 +1,10 @@
 // No heap allocation in a filter step: built as its own executable with EIGEN_RUNTIME_NO_MALLOC, so any
 // Eigen allocation inside step() aborts the test (Eigen's own check, not a timing or a guess), and with
 // the global operator new replaced by a counting one, so std:: containers that grow are caught too.
+// Eigen's check is an eigen_assert, which NDEBUG (set by every Release build) turns off: Eigen then
+// allocates with std::malloc, unseen by the counting operator new below, and an allocation in step()
+// passed. So asserts stay on in this test whatever the build type.
+#undef NDEBUG
 #define EIGEN_RUNTIME_NO_MALLOC  // main() is Catch2's, in the shared object tests/cpp/main.cpp
 #include <atomic>
 #include <catch2/catch.hpp>
