@@ -443,7 +443,7 @@ struct Tiny {
     T.resize(2, 2);
     T << 0.8, 0.2, 0.3, 0.7;
     VecX pi(2);
-    pi << 0.6, 0.4;
+    pi << 0.9, 0.1;  // not stationary for T (pi T = (0.75, 0.25)), so "pi T" and "pi" differ at step 1
     proc = si::SightProcess(si::SightModel::fixed(T, 1, pi), 2);
     g.mean << 10, 20, 1, 0;
     g.cov = Vec<4>(25, 25, 1, 1).asDiagonal();

@@ -190,7 +190,7 @@ def test_rbpf_augmented_noise_form_matches_ukf_augmented():
     for b in range(2):
         st.add_toa(b, [noise.Normal(0.0, 2.0), noise.Rayleigh(15.0)])
     T = np.array([[0.8, 0.2], [0.3, 0.7]])
-    pi = np.array([0.6, 0.4])
+    pi = np.array([0.9, 0.1])  # not stationary for T, so pi T differs from pi
     sight = situation.SightProcess(situation.SightModel.fixed(T, 1, pi), 2)
     quality = situation.QualityModel([noise.Normal(0.8, 0.2), noise.Normal(0.3, 0.2)])
     x0 = np.array([10.0, 20.0, 1.0, 0.0])
