@@ -58,8 +58,10 @@ def test_rbpf_run_and_step(variant, m):
     assert out["cov"].shape == (100, 6, 6)
     assert out["situation_probabilities"].shape == (100, 6, 2)
     np.testing.assert_allclose(out["situation_probabilities"].sum(axis=2), 1.0, atol=1e-9)
-    assert np.linalg.norm(out["mean"][-1, :2] - x[:2]) < 15.0
-    assert (f.sight_estimate() == S[-1]).mean() >= 0.5
+    # measured 0.67 m and 6 of 6 anchors (seeded; bit-identical for any thread count); the prior
+    # mean alone is 1.12 m off, and a random sight guess gets 5 or 6 right 11% of the time
+    assert np.linalg.norm(out["mean"][-1, :2] - x[:2]) < 1.0
+    assert (f.sight_estimate() == S[-1]).mean() >= 5 / 6
     assert f.num_particles <= m
     assert f.weights.sum() == pytest.approx(1.0)
     info = f.step(Y[-1], Q_obs[-1])
@@ -260,3 +262,36 @@ def test_particle_filters_accessors_and_rejected_steps():
     pf.reset(X0, P0)
     assert pf.time == 0.0
     np.testing.assert_allclose(pf.estimate, X0, atol=1.0)
+
+
+def test_pf_weights_are_each_particles_likelihood():
+    """One PF step without resampling from equal weights: each log weight is, up to the
+    normaliser, sum_r log p_n(y_r - g_r(x_i) | s_i) over the rows present plus
+    sum_b log p(o_b | s_i,b) over every anchor (a missing range does not drop its anchor's
+    quality), computed here from the models alone."""
+    Y, Q_obs, _, _ = track(steps=1)
+    st = stack()
+    opt = rbpf.PfOptions(
+        num_particles=64, resampling=rbpf.PfResampling.Systematic, ess_threshold=0.0, seed=3
+    )
+    pf = rbpf.ParticleFilter(MOTION, st, SIGHT, QUALITY, X0, P0, opt)
+    y = Y[0].copy()
+    y[4] = np.nan
+    pf.step(y, Q_obs[0])
+    X, S = pf.particles, pf.situations  # (6, M), (B, M) after the step
+    hand = np.zeros(X.shape[1])
+    for i in range(X.shape[1]):
+        g = st.predict(X[:, i], pf.time)
+        for r in range(st.rows):
+            if not np.isnan(y[r]):
+                hand[i] += st.noise(r, int(S[st.row(r).anchor, i])).log_pdf(y[r] - g[r])
+        for b in range(S.shape[0]):
+            hand[i] += QUALITY.distribution(int(S[b, i])).log_pdf(Q_obs[0][b])
+    finite = np.isfinite(hand)
+    # some NLOS particles are impossible (a negative Rayleigh noise)
+    assert 0 < finite.sum() < hand.size
+    top = hand[finite].max()
+    hand -= top + np.log(np.exp(hand[finite] - top).sum())
+    lw = pf.log_weights
+    np.testing.assert_array_equal(np.isfinite(lw), finite)
+    np.testing.assert_allclose(lw[finite], hand[finite], rtol=0, atol=1e-9)
