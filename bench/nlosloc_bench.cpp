@@ -139,14 +139,13 @@ int cmd_run(const Registry& reg, RunArgs a) {
                        (registered.empty() ? std::string("(none registered)") : join(registered)));
   if (a.estimators.empty()) throw UsageError("scenario " + a.scenario + " has no registered estimator");
   // results are keyed by name in the tables and the JSON: a repeat would run twice and keep one
-  for (std::size_t i = 0; i < a.cases.size(); ++i)
-    if (std::find(a.cases.begin(), a.cases.begin() + static_cast<long>(i), a.cases[i]) !=
-        a.cases.begin() + static_cast<long>(i))
-      throw UsageError("--case: '" + a.cases[i] + "' given more than once");
-  for (std::size_t i = 0; i < a.estimators.size(); ++i)
-    if (std::find(a.estimators.begin(), a.estimators.begin() + static_cast<long>(i), a.estimators[i]) !=
-        a.estimators.begin() + static_cast<long>(i))
-      throw UsageError("--estimators: '" + a.estimators[i] + "' given more than once");
+  const auto refuse_repeats = [](const std::vector<std::string>& v, const char* option) {
+    for (auto it = v.begin(); it != v.end(); ++it)
+      if (std::find(v.begin(), it, *it) != it)
+        throw UsageError(std::string(option) + ": '" + *it + "' given more than once");
+  };
+  refuse_repeats(a.cases, "--case");
+  refuse_repeats(a.estimators, "--estimators");
   if (a.runs < 1) throw UsageError("--runs: expected >= 1, got " + std::to_string(a.runs));
   if (a.threads < 0)
     throw UsageError("--threads: expected >= 0 (0 = all cores), got " + std::to_string(a.threads));

@@ -254,8 +254,7 @@ class BiasEstimator {
     e.flags = 0;
     e.bias.setZero();
     e.qp = QpResult{};
-    for (int i = 0; i < M_; ++i)
-      if (std::isnan(z[i])) e.flags |= kFlagMissingRows;
+    if (z.hasNaN()) e.flags |= kFlagMissingRows;
     if (e.flags & kFlagMissingRows) {
       e.lower.setZero();
       e.upper.setZero();

@@ -315,8 +315,7 @@ class ParticleFilter {
 
   /// One step with measurements y (NaN = missing) and quality statistics o (size B, NaN = missing).
   PfStepInfo step(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) {
-    nlosloc::detail::check_measurement(y, meas_.rows());
-    quality_.checked_table(o, B_, Lq_);
+    situation::check_step_inputs(meas_, quality_, y, o, Lq_);
     y_ = y;
     const long k = k_ + 1;
     const double t = t_ + motion_.dt();

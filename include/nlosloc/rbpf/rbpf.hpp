@@ -241,8 +241,7 @@ class Rbpf {
   /// NaN = missing). Throws NumericalError (state unchanged) when every UKF update fails.
   RbpfStepInfo step(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) {
     phase_profile::begin_step();
-    nlosloc::detail::check_measurement(y, meas_.rows());
-    quality_.checked_table(o, B_, Lq_);
+    situation::check_step_inputs(meas_, quality_, y, o, Lq_);
     y_ = y;
     RbpfStepInfo info;
     info.merge_threshold = opt_.merge_threshold >= 0.0

@@ -41,27 +41,26 @@ inline void ke_wu_advance(const ConstantVelocity2& motion, double sa, double dt,
   x[3] += dt * ay;
 }
 
-/// Checks of the fields K1Params and K3Params share; messages name "<params>.<field>".
-inline void check_ke_wu_params(const std::string& params, const Vec<2>& start, const Vec<2>& velocity,
-                               double accel_var, int steps, int discard, double dt, const Vec<4>& initial_std,
-                               double gamma, double bias_prior_std, double bias_walk_std, int iterations) {
+/// Checks of the fields K1Params and K3Params share (same names in both); messages name "<params>.<field>".
+template <class P>
+void check_ke_wu_params(const P& p, const std::string& params) {
   const auto field = [&](const char* f) { return params + "." + f; };
-  NLOSLOC_ENSURE(steps > discard && discard >= 0, params + ": expected 0 <= discard < steps, got discard " +
-                                                      std::to_string(discard) + ", steps " +
-                                                      std::to_string(steps));
-  nlosloc::detail::ensure_finite(start, field("start").c_str());
-  nlosloc::detail::ensure_finite(velocity, field("velocity").c_str());
-  nlosloc::detail::ensure_nonnegative(accel_var, field("accel_var").c_str());
-  nlosloc::detail::ensure_positive(dt, field("dt").c_str());
+  NLOSLOC_ENSURE(p.steps > p.discard && p.discard >= 0,
+                 params + ": expected 0 <= discard < steps, got discard " + std::to_string(p.discard) +
+                     ", steps " + std::to_string(p.steps));
+  nlosloc::detail::ensure_finite(p.start, field("start").c_str());
+  nlosloc::detail::ensure_finite(p.velocity, field("velocity").c_str());
+  nlosloc::detail::ensure_nonnegative(p.accel_var, field("accel_var").c_str());
+  nlosloc::detail::ensure_positive(p.dt, field("dt").c_str());
   for (int i = 0; i < 4; ++i)  // > 0: the initial covariance diag(initial_std^2) must be SPD
-    nlosloc::detail::ensure_positive(initial_std[i],
+    nlosloc::detail::ensure_positive(p.initial_std[i],
                                      (field("initial_std[") + std::to_string(i) + "]").c_str());
-  NLOSLOC_ENSURE(gamma >= 1.0 && std::isfinite(gamma),
-                 field("gamma") + ": expected a finite value >= 1 (eq. 32), got " + std::to_string(gamma));
-  nlosloc::detail::ensure_positive(bias_prior_std, field("iterated_bias_prior_std").c_str());
-  nlosloc::detail::ensure_nonnegative(bias_walk_std, field("iterated_bias_walk_std").c_str());
-  NLOSLOC_ENSURE(iterations >= 1,
-                 field("iterated_iterations") + ": expected >= 1, got " + std::to_string(iterations));
+  NLOSLOC_ENSURE(p.gamma >= 1.0 && std::isfinite(p.gamma),
+                 field("gamma") + ": expected a finite value >= 1 (eq. 32), got " + std::to_string(p.gamma));
+  nlosloc::detail::ensure_positive(p.iterated_bias_prior_std, field("iterated_bias_prior_std").c_str());
+  nlosloc::detail::ensure_nonnegative(p.iterated_bias_walk_std, field("iterated_bias_walk_std").c_str());
+  NLOSLOC_ENSURE(p.iterated_iterations >= 1, field("iterated_iterations") + ": expected >= 1, got " +
+                                                 std::to_string(p.iterated_iterations));
 }
 
 /// Parameters of K1; defaults are the paper's (Sec. 6 and 6.1) plus the choices listed by K1::choices().
@@ -115,8 +114,7 @@ class K1 : public Scenario {
     nlosloc::detail::ensure_positive(p.sigma_los, (params + ".sigma_los").c_str());
     NLOSLOC_ENSURE(std::isfinite(p.nlos_mean), params + ".nlos_mean: expected a finite value");
     nlosloc::detail::ensure_positive(p.nlos_std, (params + ".nlos_std").c_str());
-    check_ke_wu_params(params, p.start, p.velocity, p.accel_var, p.steps, p.discard, p.dt, p.initial_std,
-                       p.gamma, p.iterated_bias_prior_std, p.iterated_bias_walk_std, p.iterated_iterations);
+    check_ke_wu_params(p, params);
     return p;
   }
 

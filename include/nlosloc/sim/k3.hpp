@@ -68,8 +68,7 @@ class K3 : public Scenario {
     nlosloc::detail::ensure_positive(p.sigma_rel, "K3Params.sigma_rel");
     nlosloc::detail::ensure_positive(p.nlos_rel, "K3Params.nlos_rel");
     nlosloc::detail::ensure_positive(p.threshold, "K3Params.threshold");
-    check_ke_wu_params("K3Params", p.start, p.velocity, p.accel_var, p.steps, p.discard, p.dt, p.initial_std,
-                       p.gamma, p.iterated_bias_prior_std, p.iterated_bias_walk_std, p.iterated_iterations);
+    check_ke_wu_params(p, "K3Params");
     // the start must not sit on an anchor: the noise std 0.02 d would be 0
     for (const auto* g : {&p.good, &p.bad})
       for (int b = 0; b < 4; ++b)

@@ -96,13 +96,19 @@ class QualityModel {
 };
 
 /// Throws the std::invalid_argument a filter's step(y, o) throws for bad inputs: y (meas.rows(), finite or
-/// NaN) and o (QualityModel::checked_table); allocates, so it is for checking ahead, not for the step.
+/// NaN) and o (QualityModel::checked_table, into `table`, the step's own buffer: no allocation once sized).
+template <class Meas>
+void check_step_inputs(const Meas& meas, const QualityModel& quality, const Eigen::Ref<const VecX>& y,
+                       const Eigen::Ref<const VecX>& o, MatX& table) {
+  nlosloc::detail::check_measurement(y, meas.rows());
+  quality.checked_table(o, meas.num_anchors(), table);
+}
+/// The same into a table of its own (allocates): for checking ahead, changing nothing.
 template <class Meas>
 void check_step_inputs(const Meas& meas, const QualityModel& quality, const Eigen::Ref<const VecX>& y,
                        const Eigen::Ref<const VecX>& o) {
-  nlosloc::detail::check_measurement(y, meas.rows());
   MatX table;
-  quality.checked_table(o, meas.num_anchors(), table);
+  check_step_inputs(meas, quality, y, o, table);
 }
 
 }  // namespace nlosloc::situation
