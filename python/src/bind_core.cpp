@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "bind.hpp"
+#include "int_arg.hpp"
 #include "nlosloc/core/cholesky.hpp"
 #include "nlosloc/core/logsumexp.hpp"
 #include "nlosloc/core/random.hpp"
@@ -23,7 +24,10 @@ void bind_core(py::module_& m) {
       "even with the Cholesky fallback). The filter keeps the belief it had before the call.";
 
   py::class_<Rng>(m, "Rng", "Seeded xoshiro256++ generator; every random draw of nlosloc goes through one.")
-      .def(py::init<std::uint64_t, std::uint64_t>(), py::arg("seed") = 0, py::arg("stream") = 0,
+      .def(py::init([](const bind::UInt64Arg& seed, const bind::UInt64Arg& stream) {
+             return Rng(seed.get("seed"), stream.get("stream"));
+           }),
+           py::arg("seed") = 0, py::arg("stream") = 0,
            "Generator for `seed`; `stream` selects an independent sequence (e.g. a Monte Carlo run).")
       .def("uniform", &Rng::uniform, "Uniform draw in the open interval (0, 1).")
       .def("normal", py::overload_cast<>(&Rng::normal), "Standard normal draw.")

@@ -15,6 +15,7 @@
 
 #include "batch.hpp"
 #include "bind.hpp"
+#include "int_arg.hpp"
 #include "motion_arg.hpp"
 #include "nlosloc/filters/iukf.hpp"
 #include "nlosloc/rbpf/pf.hpp"
@@ -192,10 +193,12 @@ void bind_rbpf(py::module_& m) {
 
   py::class_<RbpfOptions>(m, "RbpfOptions", "Settings of Rbpf.")
       .def(py::init<>())
-      .def(py::init([](RbpfVariant variant, int num_particles, std::uint64_t max_offspring, bool merge,
-                       double merge_threshold, int threads, const SigmaScheme& scheme, NoiseForm noise_form) {
-             return RbpfOptions{variant,         num_particles, max_offspring, merge,
-                                merge_threshold, threads,       scheme,        noise_form};
+      .def(py::init([](RbpfVariant variant, int num_particles, const bind::UInt64Arg& max_offspring,
+                       bool merge, double merge_threshold, int threads, const SigmaScheme& scheme,
+                       NoiseForm noise_form) {
+             return RbpfOptions{variant, num_particles,   max_offspring.get("max_offspring"),
+                                merge,   merge_threshold, threads,
+                                scheme,  noise_form};
            }),
            py::arg("variant") = RbpfVariant::kReordered, py::arg("num_particles") = 16,
            py::arg("max_offspring") = 4096, py::arg("merge") = true, py::arg("merge_threshold") = -1.0,
@@ -203,8 +206,10 @@ void bind_rbpf(py::module_& m) {
            py::arg("noise_form") = NoiseForm::kAdditive)
       .def_readwrite("variant", &RbpfOptions::variant)
       .def_readwrite("num_particles", &RbpfOptions::num_particles, "M, particles propagated (>= 1).")
-      .def_readwrite("max_offspring", &RbpfOptions::max_offspring,
-                     "Children per particle; above N_z^B the best ones by prior x quality (bounded).")
+      .def_property(
+          "max_offspring", [](const RbpfOptions& o) { return o.max_offspring; },
+          [](RbpfOptions& o, const bind::UInt64Arg& v) { o.max_offspring = v.get("max_offspring"); },
+          "Children per particle; above N_z^B the best ones by prior x quality (bounded).")
       .def_readwrite("merge", &RbpfOptions::merge)
       .def_readwrite("merge_threshold", &RbpfOptions::merge_threshold, "d_min; negative: eq. (31).")
       .def_readwrite("threads", &RbpfOptions::threads)
@@ -225,8 +230,9 @@ void bind_rbpf(py::module_& m) {
   py::class_<PfOptions>(m, "PfOptions", "Settings of ParticleFilter.")
       .def(py::init<>())
       .def(py::init([](int num_particles, PfResampling resampling, double ess_threshold,
-                       double merge_threshold, int threads, std::uint64_t seed) {
-             return PfOptions{num_particles, resampling, ess_threshold, merge_threshold, threads, seed};
+                       double merge_threshold, int threads, const bind::UInt64Arg& seed) {
+             return PfOptions{num_particles,   resampling, ess_threshold,
+                              merge_threshold, threads,    seed.get("seed")};
            }),
            py::arg("num_particles") = 10000, py::arg("resampling") = PfResampling::kSystematic,
            py::arg("ess_threshold") = 0.5, py::arg("merge_threshold") = -1.0, py::arg("threads") = 1,
@@ -236,7 +242,9 @@ void bind_rbpf(py::module_& m) {
       .def_readwrite("ess_threshold", &PfOptions::ess_threshold)
       .def_readwrite("merge_threshold", &PfOptions::merge_threshold)
       .def_readwrite("threads", &PfOptions::threads)
-      .def_readwrite("seed", &PfOptions::seed);
+      .def_property(
+          "seed", [](const PfOptions& o) { return o.seed; },
+          [](PfOptions& o, const bind::UInt64Arg& v) { o.seed = v.get("seed"); });
 
   py::class_<PfStepInfo>(m, "PfStepInfo", "What one PF step reports.")
       .def_readonly("log_likelihood", &PfStepInfo::log_likelihood)

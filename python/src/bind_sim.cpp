@@ -1,7 +1,8 @@
 /// \file bind_sim.cpp
 /// nlosloc._core.sim: the scenario registry, draws, the Monte Carlo runner (GIL released, progress and
 /// Ctrl-C handled on the calling thread), the error metrics, and the H1 / H2 scenarios with their
-/// parameters (H1Params, H2Params) so that they run with custom values.
+/// parameters (H1Params, H2Params) so that they run with custom values. K1-K3 and the K2 study are in
+/// bind_sim_ke_wu.cpp, the summaries and tables in bind_sim_report.cpp.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -13,12 +14,14 @@
 #include <vector>
 
 #include "bind.hpp"
+#include "int_arg.hpp"
 #include "nlosloc/sim/h1.hpp"
 #include "nlosloc/sim/h2.hpp"
 #include "nlosloc/sim/metrics.hpp"
 #include "nlosloc/sim/montecarlo.hpp"
 #include "nlosloc/sim/registry.hpp"
 #include "nlosloc/sim/report.hpp"
+#include "params_field.hpp"
 
 namespace py = pybind11;
 namespace sim = nlosloc::sim;
@@ -26,6 +29,7 @@ namespace sim = nlosloc::sim;
 namespace {
 
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using nlosloc::bind::UInt64Arg;
 
 /// Copies a numpy array (any shape, flattened) into a vector.
 std::vector<double> to_vector(const DoubleArray& a) {
@@ -38,9 +42,8 @@ py::array_t<double> to_array(const std::vector<double>& v) {
   return a;
 }
 
-py::dict scenario_info(const std::string& name) {
-  const sim::Registry& reg = sim::registry();
-  const sim::Scenario& s = reg.scenario(name);
+/// The published numbers of a scenario as a list of dicts (estimator, case, metric, value).
+py::list paper_list(const sim::Scenario& s) {
   py::list paper;
   for (const sim::PaperValue& v : s.paper()) {
     py::dict d;
@@ -50,6 +53,13 @@ py::dict scenario_info(const std::string& name) {
     d["value"] = v.value;
     paper.append(d);
   }
+  return paper;
+}
+
+py::dict scenario_info(const std::string& name) {
+  const sim::Registry& reg = sim::registry();
+  const sim::Scenario& s = reg.scenario(name);
+  const py::list paper = paper_list(s);
   py::dict info;
   info["name"] = s.name();
   info["description"] = s.description();
@@ -75,9 +85,9 @@ int steps_arg(std::optional<int> steps) {
   return steps.value_or(0);
 }
 
-py::dict draw_dict(const sim::Scenario& s, const std::string& case_name, std::uint64_t seed,
-                   std::uint64_t run, std::optional<int> steps) {
-  sim::Draw d = s.draw(case_name, seed, run, steps_arg(steps));
+py::dict draw_dict(const sim::Scenario& s, const std::string& case_name, const UInt64Arg& seed,
+                   const UInt64Arg& run, std::optional<int> steps) {
+  sim::Draw d = s.draw(case_name, seed.get("seed"), run.get("run"), steps_arg(steps));
   py::dict r;
   r["scenario"] = d.scenario;
   r["case"] = d.case_name;
@@ -94,22 +104,22 @@ py::dict draw_dict(const sim::Scenario& s, const std::string& case_name, std::ui
   return r;
 }
 
-py::dict draw(const std::string& name, const std::string& case_name, std::uint64_t seed, std::uint64_t run,
-              std::optional<int> steps) {
+py::dict draw(const std::string& name, const std::string& case_name, const UInt64Arg& seed,
+              const UInt64Arg& run, std::optional<int> steps) {
   return draw_dict(sim::registry().scenario(name), case_name, seed, run, steps);
 }
 
 /// Runs the estimators `estimators` (default all) registered in the built-in registry under the scenario's
 /// name on `s`, which may be a scenario built with custom parameters (the factories take any H1 / H2).
-py::dict run_monte_carlo(const sim::Scenario& s, const std::string& case_name, int runs, std::uint64_t seed,
-                         std::optional<std::vector<std::string>> estimators, int threads,
-                         std::optional<int> steps, const py::object& progress) {
+py::dict run_monte_carlo(const sim::Scenario& s, const std::string& case_name, int runs,
+                         const UInt64Arg& seed, std::optional<std::vector<std::string>> estimators,
+                         int threads, std::optional<int> steps, const py::object& progress) {
   const bool has_progress = !progress.is_none();
   if (has_progress && !PyCallable_Check(progress.ptr()))
     throw py::type_error("progress: expected a callable progress(done, total) or None");
   sim::MonteCarloOptions opt;
   opt.runs = runs;
-  opt.seed = seed;
+  opt.seed = seed.get("seed");
   opt.threads = threads;
   opt.steps = steps_arg(steps);
   // Both callbacks run on this (the calling) thread and take the GIL only while they call into Python;
@@ -159,19 +169,6 @@ py::dict run_monte_carlo(const sim::Scenario& s, const std::string& case_name, i
   return r;
 }
 
-/// A read-write numpy property for a fixed-size vector field of a params struct; the setter checks the
-/// length and names the field ("H1Params.start").
-template <class P, int N, nlosloc::Vec<N> P::*Field, class C>
-void vec_field(C& c, const char* name, const char* qualified, const char* doc) {
-  c.def_property(
-      name, [](const P& p) { return nlosloc::VecX(p.*Field); },
-      [qualified](P& p, const nlosloc::VecX& v) {
-        nlosloc::detail::ensure_shape(v, N, 1, qualified);
-        p.*Field = v;
-      },
-      doc);
-}
-
 /// The quality-statistic fields that H1Params and H2Params share (choice: Beta per condition).
 template <class P, class C>
 void quality_fields(C& c) {
@@ -199,6 +196,12 @@ void bind_scenarios(py::module_& m) {
       .def_property_readonly("measurements", &sim::Scenario::measurements, py::return_value_policy::copy,
                              "The models.MeasurementStack that generates the draws' y.")
       .def_property_readonly("paper_source", &sim::Scenario::paper_source, "Where the published numbers are.")
+      .def_property_readonly("paper", &paper_list,
+                             "Published numbers: list of dicts estimator, case, metric, value.")
+      .def("paper_value", &sim::Scenario::paper_value, py::arg("estimator"), py::arg("case"),
+           py::arg("metric"),
+           "The published value of `metric` (\"p67\", \"p95\", \"time_per_step_us\") for an estimator "
+           "on a case, or None when the paper gives none.")
       .def("case_index", &sim::Scenario::case_index, py::arg("case"),
            "Index of a case name; ValueError listing the valid names.")
       .def("draw", &draw_dict, py::arg("case"), py::arg("seed"), py::arg("run"),
@@ -226,13 +229,13 @@ void bind_scenarios(py::module_& m) {
       .def_readwrite("discard", &H1Params::discard, "Choice: first samples left out, 0 <= discard < steps.")
       .def_readwrite("rbpf_particles", &H1Params::rbpf_particles, "Sec. VI-A: particles of rRBPF-8, >= 1.");
   quality_fields<H1Params>(h1p);
-  vec_field<H1Params, 2, &H1Params::start>(h1p, "start", "H1Params.start", "Choice: start (m), (2,).");
-  vec_field<H1Params, 2, &H1Params::heading>(h1p, "heading", "H1Params.heading",
-                                             "Choice: direction of motion, unit vector (2,).");
-  vec_field<H1Params, 3, &H1Params::sector_deg>(h1p, "sector_deg", "H1Params.sector_deg",
-                                                "Choice: broadsides of the three sectors (deg), (3,).");
-  vec_field<H1Params, 4, &H1Params::initial_std>(h1p, "initial_std", "H1Params.initial_std",
-                                                 "Choice: initial belief std (m, m, m/s, m/s), (4,), > 0.");
+  nlosloc::bind::fixed_field<&H1Params::start>(h1p, "start", "H1Params.start", "Choice: start (m), (2,).");
+  nlosloc::bind::fixed_field<&H1Params::heading>(h1p, "heading", "H1Params.heading",
+                                                 "Choice: direction of motion, unit vector (2,).");
+  nlosloc::bind::fixed_field<&H1Params::sector_deg>(h1p, "sector_deg", "H1Params.sector_deg",
+                                                    "Choice: broadsides of the three sectors (deg), (3,).");
+  nlosloc::bind::fixed_field<&H1Params::initial_std>(
+      h1p, "initial_std", "H1Params.initial_std", "Choice: initial belief std (m, m, m/s, m/s), (4,), > 0.");
 
   py::class_<sim::H1, sim::Scenario, std::shared_ptr<sim::H1>>(
       m, "H1",
@@ -302,6 +305,8 @@ void bind_scenarios(py::module_& m) {
 
 void bind_sim(py::module_& m) {
   bind_scenarios(m);
+  bind_sim_ke_wu(m);
+  bind_sim_report(m);
 
   m.def(
       "scenarios", [] { return sim::registry().scenarios(); },
@@ -363,7 +368,7 @@ dict
 
   m.def(
       "run_monte_carlo",
-      [](const std::string& name, const std::string& case_name, int runs, std::uint64_t seed,
+      [](const std::string& name, const std::string& case_name, int runs, const UInt64Arg& seed,
          std::optional<std::vector<std::string>> estimators, int threads, std::optional<int> steps,
          const py::object& progress) {
         return run_monte_carlo(sim::registry().scenario(name), case_name, runs, seed, std::move(estimators),

@@ -218,3 +218,40 @@ def test_filter_accessors_have_python_twins():
     p = fwd.probabilities
     fwd.update(np.full(6, 0.9))
     assert not np.array_equal(p, fwd.probabilities)  # p kept the old values: a copy
+
+
+SEED_RANGE = r"expected an integer in \[0, 2\*\*64 - 1\], got "
+
+
+def test_unsigned_arguments_name_themselves_when_out_of_range():
+    from nlosloc import sim
+
+    # pybind11's own uint64 conversion refused these with "incompatible function arguments".
+    cases = [
+        ("seed", "-1", lambda: sim.draw("K1", "2LOS/1NLOS", seed=-1, run=0)),
+        ("run", "-2", lambda: sim.draw("K1", "2LOS/1NLOS", seed=1, run=-2)),
+        ("run", "18446744073709551616", lambda: sim.K1().draw("2LOS/1NLOS", seed=1, run=2**64)),
+        ("seed", "-1", lambda: sim.run_monte_carlo("K1", "2LOS/1NLOS", runs=1, seed=-1)),
+        ("seed", "-1", lambda: sim.run_monte_carlo(sim.K1(), "2LOS/1NLOS", runs=1, seed=-1)),
+        ("seed", "-5", lambda: sim.run_k2_study(1, -5)),
+        ("seed", "-1", lambda: core.Rng(-1)),
+        ("stream", "-1", lambda: core.Rng(0, -1)),
+        ("seed", "-1", lambda: rbpf.PfOptions(seed=-1)),
+        ("max_offspring", "-4", lambda: rbpf.RbpfOptions(max_offspring=-4)),
+    ]
+    for name, shown, call in cases:
+        with pytest.raises(ValueError, match=rf"^{name}: {SEED_RANGE}{shown}$"):
+            call()
+    opt = rbpf.PfOptions(seed=3)
+    with pytest.raises(ValueError, match=rf"^seed: {SEED_RANGE}-1$"):
+        opt.seed = -1
+    assert opt.seed == 3
+    ro = rbpf.RbpfOptions()
+    with pytest.raises(ValueError, match=rf"^max_offspring: {SEED_RANGE}-1$"):
+        ro.max_offspring = -1
+    assert ro.max_offspring == 4096
+    # numpy integers and the largest value are accepted; a float is still a TypeError
+    assert core.Rng(np.uint64(2**64 - 1))() == core.Rng(2**64 - 1)()
+    assert rbpf.PfOptions(seed=np.int64(7)).seed == 7
+    with pytest.raises(TypeError):
+        core.Rng(1.0)

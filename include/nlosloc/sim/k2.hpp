@@ -270,12 +270,14 @@ inline std::string format_k2_study(const K2Study& st) {
     }
     out += b;
   }
-  // Fig. 5 analogue: identification accuracy of the first estimator that identifies, per 20-sample block of
-  // the first two switching periods after the transient.
+  // Fig. 5 analogue: the first identifying estimator's accuracy in the 10 samples after the second switch
+  // (k = 2 period, past the transient), when the run reaches it.
+  const int sw = 2 * st.period;
   for (const auto& e : st.estimators) {
-    if (e.identification.size() == 0) continue;
-    out += "  " + e.name + " identification per sample (mean over runs), k = 0..9 after a switch at 400: ";
-    for (int k = 2 * st.period; k < std::min(st.steps, 2 * st.period + 10); ++k) {
+    if (e.identification.size() == 0 || sw >= st.steps) continue;
+    out += "  " + e.name + " identification per sample (mean over runs), k = 0..9 after the switch at " +
+           std::to_string(sw) + ": ";
+    for (int k = sw; k < std::min(st.steps, sw + 10); ++k) {
       std::snprintf(b, sizeof b, "%.2f ", e.identification[k]);
       out += b;
     }

@@ -18,7 +18,7 @@ class Rng:
         """
         Next raw 64-bit output.
         """
-    def __init__(self, seed: typing.SupportsInt | typing.SupportsIndex = 0, stream: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def __init__(self, seed: int = 0, stream: int = 0) -> None:
         """
         Generator for `seed`; `stream` selects an independent sequence (e.g. a Monte Carlo run).
         """

@@ -116,7 +116,7 @@ class RbpfOptions:
     def __init__(self) -> None:
         ...
     @typing.overload
-    def __init__(self, variant: RbpfVariant = RbpfVariant.Reordered, num_particles: typing.SupportsInt | typing.SupportsIndex = 16, max_offspring: typing.SupportsInt | typing.SupportsIndex = 4096, merge: bool = True, merge_threshold: typing.SupportsFloat | typing.SupportsIndex = -1.0, threads: typing.SupportsInt | typing.SupportsIndex = 1, scheme: nlosloc._core.core.SigmaScheme = ..., noise_form: nlosloc._core.filters.NoiseForm = nlosloc._core.filters.NoiseForm.Additive) -> None:
+    def __init__(self, variant: RbpfVariant = RbpfVariant.Reordered, num_particles: typing.SupportsInt | typing.SupportsIndex = 16, max_offspring: int = 4096, merge: bool = True, merge_threshold: typing.SupportsFloat | typing.SupportsIndex = -1.0, threads: typing.SupportsInt | typing.SupportsIndex = 1, scheme: nlosloc._core.core.SigmaScheme = ..., noise_form: nlosloc._core.filters.NoiseForm = nlosloc._core.filters.NoiseForm.Additive) -> None:
         ...
     @property
     def max_offspring(self) -> int:
@@ -124,7 +124,7 @@ class RbpfOptions:
         Children per particle; above N_z^B the best ones by prior x quality (bounded).
         """
     @max_offspring.setter
-    def max_offspring(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def max_offspring(self, arg1: int) -> None:
         ...
     @property
     def merge_threshold(self) -> float:
@@ -186,11 +186,12 @@ class PfOptions:
     Settings of ParticleFilter.
     """
     resampling: PfResampling
+    seed: int
     @typing.overload
     def __init__(self) -> None:
         ...
     @typing.overload
-    def __init__(self, num_particles: typing.SupportsInt | typing.SupportsIndex = 10000, resampling: PfResampling = PfResampling.Systematic, ess_threshold: typing.SupportsFloat | typing.SupportsIndex = 0.5, merge_threshold: typing.SupportsFloat | typing.SupportsIndex = -1.0, threads: typing.SupportsInt | typing.SupportsIndex = 1, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def __init__(self, num_particles: typing.SupportsInt | typing.SupportsIndex = 10000, resampling: PfResampling = PfResampling.Systematic, ess_threshold: typing.SupportsFloat | typing.SupportsIndex = 0.5, merge_threshold: typing.SupportsFloat | typing.SupportsIndex = -1.0, threads: typing.SupportsInt | typing.SupportsIndex = 1, seed: int = 0) -> None:
         ...
     @property
     def ess_threshold(self) -> float:
@@ -209,12 +210,6 @@ class PfOptions:
         ...
     @num_particles.setter
     def num_particles(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
-        ...
-    @property
-    def seed(self) -> int:
-        ...
-    @seed.setter
-    def seed(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def threads(self) -> int:

@@ -9,7 +9,7 @@ import nlosloc._core.situation
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['H1', 'H1Params', 'H2', 'H2Params', 'Scenario', 'draw', 'ecdf', 'percentiles', 'probability_within', 'rmse_over_time', 'run_monte_carlo', 'scenario_info', 'scenarios']
+__all__: list[str] = ['CaseSummary', 'EstimatorSummary', 'H1', 'H1Params', 'H2', 'H2Params', 'K1', 'K1Params', 'K2', 'K2EstimatorStudy', 'K2Params', 'K2Study', 'K3', 'K3Params', 'Scenario', 'default_levels', 'draw', 'ecdf', 'estimator_seed', 'format_choices', 'format_k2_study', 'format_k3_probability', 'format_percentile_table', 'format_table', 'percentile', 'percentiles', 'probability_within', 'rmse_over_time', 'run_k2_study', 'run_monte_carlo', 'scenario_info', 'scenarios', 'summarize']
 class Scenario:
     """
     A simulation scenario: geometry, measurement stack and a draw() of truth + data.
@@ -18,9 +18,13 @@ class Scenario:
         """
         Index of a case name; ValueError listing the valid names.
         """
-    def draw(self, case: str, seed: typing.SupportsInt | typing.SupportsIndex, run: typing.SupportsInt | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex | None = None) -> dict:
+    def draw(self, case: str, seed: int, run: int, steps: typing.SupportsInt | typing.SupportsIndex | None = None) -> dict:
         """
         One realisation of a case from Rng(seed, run); the same dict as nlosloc.sim.draw().
+        """
+    def paper_value(self, estimator: str, case: str, metric: str) -> float | None:
+        """
+        The published value of `metric` ("p67", "p95", "time_per_step_us") for an estimator on a case, or None when the paper gives none.
         """
     @property
     def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -61,6 +65,11 @@ class Scenario:
     def name(self) -> str:
         """
         Short name ("H1").
+        """
+    @property
+    def paper(self) -> list:
+        """
+        Published numbers: list of dicts estimator, case, metric, value.
         """
     @property
     def paper_source(self) -> str:
@@ -482,7 +491,511 @@ class H2(Scenario):
         """
         The situation.SightProcess (one eq. 17 chain per anchor).
         """
-def draw(name: str, case: str, seed: typing.SupportsInt | typing.SupportsIndex, run: typing.SupportsInt | typing.SupportsIndex, steps: typing.SupportsInt | typing.SupportsIndex | None = None) -> dict:
+class K1Params:
+    """
+    Parameters of K1 (Ke & Wu 2011 Secs. 6 and 6.1, plus choices). Checked when a K1 (or a K2 through K2Params.base) is built from them (ValueError naming the field).
+    """
+    def __init__(self) -> None:
+        ...
+    @property
+    def accel_var(self) -> float:
+        """
+        Sec. 6: sigma_x^2 = sigma_y^2 of eq. (16) ((m/s^2)^2), >= 0.
+        """
+    @accel_var.setter
+    def accel_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Sec. 6: the three fixed nodes (m), (3, 2).
+        """
+    @anchors.setter
+    def anchors(self, arg1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> None:
+        ...
+    @property
+    def discard(self) -> int:
+        """
+        First samples left out of the statistics, 0 <= discard < steps.
+        """
+    @discard.setter
+    def discard(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def dt(self) -> float:
+        """
+        Sec. 6: Delta t (s), > 0.
+        """
+    @dt.setter
+    def dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def gamma(self) -> float:
+        """
+        Sec. 5: scaling factor of the NLOS test, eq. (32), finite >= 1.
+        """
+    @gamma.setter
+    def gamma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def initial_std(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Choice: initial belief std (m, m, m/s, m/s), (4,), > 0.
+        """
+    @initial_std.setter
+    def initial_std(self, arg1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        ...
+    @property
+    def iterated_bias_prior_std(self) -> float:
+        """
+        Choice: iterated NLOS EKF, prior std of each bias (m), > 0.
+        """
+    @iterated_bias_prior_std.setter
+    def iterated_bias_prior_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def iterated_bias_walk_std(self) -> float:
+        """
+        Choice: iterated NLOS EKF, bias random walk (m/step), >= 0.
+        """
+    @iterated_bias_walk_std.setter
+    def iterated_bias_walk_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def iterated_iterations(self) -> int:
+        """
+        Choice: iterated NLOS EKF, iterations of the update, >= 1.
+        """
+    @iterated_iterations.setter
+    def iterated_iterations(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def nlos_mean(self) -> float:
+        """
+        Sec. 6.1: NLOS error b_i ~ N(mean, std^2) (m), finite.
+        """
+    @nlos_mean.setter
+    def nlos_mean(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def nlos_nonnegative(self) -> bool:
+        """
+        Choice: b_i = max(0, draw) (Sec. 2, eq. 1: b_i(k) >= 0); False keeps the normal draw.
+        """
+    @nlos_nonnegative.setter
+    def nlos_nonnegative(self, arg0: bool) -> None:
+        ...
+    @property
+    def nlos_std(self) -> float:
+        """
+        Sec. 6.1: NLOS error std (m), > 0.
+        """
+    @nlos_std.setter
+    def nlos_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def sigma_los(self) -> float:
+        """
+        Sec. 6: TOA noise n_i ~ N(0, sigma_los^2) (m), > 0.
+        """
+    @sigma_los.setter
+    def sigma_los(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def start(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Start position (m), (2,).
+        """
+    @start.setter
+    def start(self, arg1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        ...
+    @property
+    def steps(self) -> int:
+        """
+        Sec. 6: L, samples per run, > discard.
+        """
+    @steps.setter
+    def steps(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def velocity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Initial velocity (m/s), (2,).
+        """
+    @velocity.setter
+    def velocity(self, arg1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        ...
+class K1(Scenario):
+    """
+    Scenario K1 (Ke & Wu 2011 Sec. 6.1): three TOA nodes, 0..3 of them NLOS for the whole run. Built with custom K1Params it runs with run_monte_carlo(scenario, ...) and the estimators registered for K1.
+    """
+    @staticmethod
+    def is_nlos(case_index: typing.SupportsInt | typing.SupportsIndex, anchor: typing.SupportsInt | typing.SupportsIndex) -> bool:
+        """
+        True when node `anchor` is NLOS in case `case_index` (choice: the last nlos_count nodes).
+        """
+    @staticmethod
+    def nlos_count(case_index: typing.SupportsInt | typing.SupportsIndex) -> int:
+        """
+        Number of NLOS nodes of case `case_index` (cases hold 0..3 NLOS nodes).
+        """
+    def __init__(self, params: K1Params = ...) -> None:
+        ...
+    @property
+    def motion(self) -> nlosloc._core.models.ConstantVelocity2:
+        """
+        Motion model of the truth and of the filters (Ke & Wu eq. 16).
+        """
+    @property
+    def params(self) -> K1Params:
+        """
+        A copy of its K1Params.
+        """
+class K2Params:
+    """
+    Parameters of K2 (Ke & Wu 2011 Sec. 6.2): K1's in `base` plus the switching period. Checked when a K2 is built from them (ValueError naming the field).
+    """
+    def __init__(self) -> None:
+        ...
+    @property
+    def base(self) -> K1Params:
+        """
+        K1Params: geometry, noise, motion, L, dt, discard, estimator choices (edited in place).
+        """
+    @base.setter
+    def base(self, arg0: K1Params) -> None:
+        ...
+    @property
+    def period(self) -> int:
+        """
+        Sec. 6.2: samples between LOS/NLOS switches, >= 1.
+        """
+    @period.setter
+    def period(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def start_nlos(self) -> bool:
+        """
+        Choice: the first block is NLOS.
+        """
+    @start_nlos.setter
+    def start_nlos(self, arg0: bool) -> None:
+        ...
+class K2(Scenario):
+    """
+    Scenario K2 (Ke & Wu 2011 Sec. 6.2): K1's nodes and noise, every node switching between NLOS and LOS every `period` samples. Built with custom K2Params it runs with run_monte_carlo(scenario, ...).
+    """
+    def __init__(self, params: K2Params = ...) -> None:
+        ...
+    def nlos_at(self, k: typing.SupportsInt | typing.SupportsIndex) -> bool:
+        """
+        True when the nodes are NLOS at sample k.
+        """
+    @property
+    def motion(self) -> nlosloc._core.models.ConstantVelocity2:
+        """
+        Motion model of the truth and of the filters (Ke & Wu eq. 16).
+        """
+    @property
+    def params(self) -> K2Params:
+        """
+        A copy of its K2Params.
+        """
+class K3Params:
+    """
+    Parameters of K3 (Ke & Wu 2011 Sec. 6.4, plus choices). Checked when a K3 is built from them (ValueError naming the field).
+    """
+    def __init__(self) -> None:
+        ...
+    @property
+    def accel_var(self) -> float:
+        """
+        Sec. 6: sigma_x^2 = sigma_y^2 of eq. (16) ((m/s^2)^2), >= 0.
+        """
+    @accel_var.setter
+    def accel_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def bad(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Sec. 6.4: bad geometry, four nodes (m), (4, 2).
+        """
+    @bad.setter
+    def bad(self, arg1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> None:
+        ...
+    @property
+    def discard(self) -> int:
+        """
+        First samples left out of the statistics, 0 <= discard < steps.
+        """
+    @discard.setter
+    def discard(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def dt(self) -> float:
+        """
+        Sec. 6: Delta t (s), > 0.
+        """
+    @dt.setter
+    def dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def gamma(self) -> float:
+        """
+        Sec. 5: scaling factor of the NLOS test, eq. (32), finite >= 1.
+        """
+    @gamma.setter
+    def gamma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def good(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Sec. 6.4: good geometry, four nodes (m), (4, 2).
+        """
+    @good.setter
+    def good(self, arg1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> None:
+        ...
+    @property
+    def initial_std(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Choice: initial belief std (m, m, m/s, m/s), (4,), > 0.
+        """
+    @initial_std.setter
+    def initial_std(self, arg1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        ...
+    @property
+    def iterated_bias_prior_std(self) -> float:
+        """
+        Choice: iterated NLOS EKF, prior std of each bias (m), > 0.
+        """
+    @iterated_bias_prior_std.setter
+    def iterated_bias_prior_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def iterated_bias_walk_std(self) -> float:
+        """
+        Choice: iterated NLOS EKF, bias random walk (m/step), >= 0.
+        """
+    @iterated_bias_walk_std.setter
+    def iterated_bias_walk_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def iterated_iterations(self) -> int:
+        """
+        Choice: iterated NLOS EKF, iterations of the update, >= 1.
+        """
+    @iterated_iterations.setter
+    def iterated_iterations(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def nlos_rel(self) -> float:
+        """
+        Sec. 6.4: NLOS error exponential with mean nlos_rel d_i, > 0.
+        """
+    @nlos_rel.setter
+    def nlos_rel(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def sigma_rel(self) -> float:
+        """
+        Sec. 6.4: sigma_i = sigma_rel d_i, > 0.
+        """
+    @sigma_rel.setter
+    def sigma_rel(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def start(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Start position (m), (2,).
+        """
+    @start.setter
+    def start(self, arg1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        ...
+    @property
+    def steps(self) -> int:
+        """
+        Sec. 6: L, samples per run, > discard.
+        """
+    @steps.setter
+    def steps(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def threshold(self) -> float:
+        """
+        Sec. 6.4: error threshold (m) of P(error <= t), > 0.
+        """
+    @threshold.setter
+    def threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def velocity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Initial velocity (m/s), (2,).
+        """
+    @velocity.setter
+    def velocity(self, arg1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        ...
+class K3(Scenario):
+    """
+    Scenario K3 (Ke & Wu 2011 Sec. 6.4): four TOA nodes in a good or a bad geometry, 1..4 of them NLOS, noise relative to distance. Built with custom K3Params it runs with run_monte_carlo(scenario, ...).
+    """
+    @staticmethod
+    def bad_geometry(case_index: typing.SupportsInt | typing.SupportsIndex) -> bool:
+        """
+        True for the bad-geometry cases (indices 4..7).
+        """
+    @staticmethod
+    def is_nlos(case_index: typing.SupportsInt | typing.SupportsIndex, anchor: typing.SupportsInt | typing.SupportsIndex) -> bool:
+        """
+        True when node `anchor` is NLOS in case `case_index` (the last nlos_count nodes).
+        """
+    @staticmethod
+    def nlos_count(case_index: typing.SupportsInt | typing.SupportsIndex) -> int:
+        """
+        Number of NLOS nodes of case `case_index` (1..4).
+        """
+    def __init__(self, params: K3Params = ...) -> None:
+        ...
+    def anchors_of(self, case_index: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (4, 2) anchors of case `case_index` (anchors is the good geometry).
+        """
+    @property
+    def motion(self) -> nlosloc._core.models.ConstantVelocity2:
+        """
+        Motion model of the truth and of the filters (Ke & Wu eq. 16).
+        """
+    @property
+    def params(self) -> K3Params:
+        """
+        A copy of its K3Params.
+        """
+class K2EstimatorStudy:
+    """
+    One estimator's averages in the K2 study.
+    """
+    @property
+    def identification(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"] | None:
+        """
+        (T,) fraction of (run, node) pairs whose sight was identified (Fig. 5); None for an estimator that does not classify sight.
+        """
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def position_error(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (T,) mean over runs of ||p^_k - p_k|| (m).
+        """
+    @property
+    def range_error(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (T, B) mean over runs of | ||p^_k - a_i|| - d_i(k) | (m): Ke & Wu Fig. 3.
+        """
+class K2Study:
+    """
+    The K2 study: Ke & Wu Figs. 3-5 as numbers (means over runs).
+    """
+    @property
+    def discard(self) -> int:
+        ...
+    @property
+    def estimators(self) -> list[K2EstimatorStudy]:
+        """
+        One K2EstimatorStudy per estimator, in order.
+        """
+    @property
+    def nlos(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+        """
+        (T,) 1 where the nodes are NLOS.
+        """
+    @property
+    def period(self) -> int:
+        ...
+    @property
+    def runs(self) -> int:
+        ...
+    @property
+    def steps(self) -> int:
+        ...
+class EstimatorSummary:
+    """
+    Summary of one estimator on one case.
+    """
+    def at(self, level: typing.SupportsFloat | typing.SupportsIndex) -> float:
+        """
+        Percentile at `level` (one of levels); NaN if it was not computed.
+        """
+    @property
+    def levels(self) -> list[float]:
+        """
+        Percentile levels (%).
+        """
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def paper_p67(self) -> float | None:
+        """
+        Published 67% error (m), or None.
+        """
+    @property
+    def paper_p95(self) -> float | None:
+        """
+        Published 95% error (m), or None.
+        """
+    @property
+    def paper_time_per_step_us(self) -> float | None:
+        """
+        Published time per step (us), or None.
+        """
+    @property
+    def percentiles(self) -> list[float]:
+        """
+        Position error (m) at each level, pooled over runs and steps k >= discard.
+        """
+    @property
+    def sight_accuracy(self) -> float | None:
+        """
+        Fraction of (anchor, step k >= discard) pairs classified correctly; None for an estimator that does not classify sight.
+        """
+    @property
+    def time_per_step_ns(self) -> float:
+        """
+        Mean over runs of the time per step (ns).
+        """
+class CaseSummary:
+    """
+    Summary of one case: one EstimatorSummary per estimator.
+    """
+    @property
+    def case(self) -> str:
+        ...
+    @property
+    def discard(self) -> int:
+        ...
+    @property
+    def estimators(self) -> list[EstimatorSummary]:
+        """
+        In the result's order.
+        """
+    @property
+    def runs(self) -> int:
+        ...
+    @property
+    def scenario(self) -> str:
+        ...
+    @property
+    def steps(self) -> int:
+        ...
+    @property
+    def wall_seconds(self) -> float:
+        ...
+def default_levels() -> list[float]:
+    """
+    Percentile levels reported by default: [50, 67, 90, 95].
+    """
+def draw(name: str, case: str, seed: int, run: int, steps: typing.SupportsInt | typing.SupportsIndex | None = None) -> dict:
     """
     One realisation of a scenario case, generated from ``Rng(seed, run)``.
     
@@ -521,6 +1034,40 @@ def ecdf(values: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], max_po
     -------
     tuple of numpy.ndarray
         ``(x, p)``: x ascending and ``p[i] = rank(x[i]) / n``.
+    """
+def estimator_seed(seed: int, name: str) -> int:
+    """
+    Seed of estimator `name`'s generator in a Monte Carlo run with `seed`: run r uses Rng(estimator_seed(seed, name), r), the same whatever other estimators run beside it.
+    """
+@typing.overload
+def format_choices(scenario: Scenario) -> str:
+    """
+    The scenario header: name, description, the numbered choices made where the paper is silent, and where the published numbers are.
+    """
+@typing.overload
+def format_choices(scenario: str) -> str:
+    """
+    The same, for a registered scenario name.
+    """
+def format_k2_study(study: K2Study) -> str:
+    """
+    The K2 study as text (what nlosloc-bench prints): per estimator, position and ranging errors in NLOS and LOS blocks, identification overall, per sight, near the switches and elsewhere.
+    """
+def format_k3_probability(result: dict, threshold: typing.SupportsFloat | typing.SupportsIndex = 5.0) -> str:
+    """
+    One line per estimator: P(position error <= threshold) pooled over runs and steps k >= discard (Ke & Wu Sec. 6.4, Figs. 6-7), from a run_monte_carlo result.
+    """
+def format_percentile_table(summary: CaseSummary) -> str:
+    """
+    The case table without paper columns: 50 / 67 / 90 / 95% errors, time per step, sight accuracy.
+    """
+def format_table(summary: CaseSummary) -> str:
+    """
+    The case table nlosloc-bench prints: ours and the paper's 67% / 95% errors, their ratios, time per step and sight accuracy; format_percentile_table's when the paper publishes no number for the case.
+    """
+def percentile(values: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], q: typing.SupportsFloat | typing.SupportsIndex) -> float:
+    """
+    The q-th percentile (q in [0, 100]) of `values` (flattened), numpy.percentile's default definition; NaN if values is empty or holds a NaN.
     """
 def percentiles(values: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], q: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]:
     """
@@ -568,8 +1115,34 @@ def rmse_over_time(errors: typing.Annotated[numpy.typing.ArrayLike, numpy.float6
     numpy.ndarray
         T values ``sqrt(mean over runs of errors**2)``.
     """
+def run_k2_study(runs: typing.SupportsInt | typing.SupportsIndex, seed: int, steps: typing.SupportsInt | typing.SupportsIndex | None = None, estimators: collections.abc.Sequence[str] | None = None) -> K2Study:
+    """
+    The K2 study of Ke & Wu Sec. 6.2 (Figs. 3-5): every estimator registered for K2 (or
+    ``estimators``) on ``runs`` draws ``Rng(seed, r)`` of the registered K2, one thread, the same draws
+    as :func:`run_monte_carlo`; position error, ranging error and sight identification averaged over runs.
+    
+    Parameters
+    ----------
+    runs : int
+        Number of runs (>= 1).
+    seed : int
+        Seed (>= 0).
+    steps : int, optional
+        Steps per run (>= 1); default the scenario's.
+    estimators : list of str, optional
+        Estimator names; default all registered for K2.
+    
+    Returns
+    -------
+    K2Study
+    
+    Raises
+    ------
+    ValueError
+        On a bad count, a negative seed or an unknown estimator.
+    """
 @typing.overload
-def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: typing.SupportsInt | typing.SupportsIndex, estimators: collections.abc.Sequence[str] | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None) -> dict:
+def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, estimators: collections.abc.Sequence[str] | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None) -> dict:
     """
     Monte Carlo run of registered estimators on identical draws.
     
@@ -609,7 +1182,7 @@ def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.Supp
         On an unknown scenario, case or estimator name, or a bad count.
     """
 @typing.overload
-def run_monte_carlo(scenario: Scenario, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: typing.SupportsInt | typing.SupportsIndex, estimators: collections.abc.Sequence[str] | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None) -> dict:
+def run_monte_carlo(scenario: Scenario, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, estimators: collections.abc.Sequence[str] | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None) -> dict:
     """
     Monte Carlo run on a scenario object, e.g. ``H2(params)`` with custom parameters.
     
@@ -664,4 +1237,54 @@ def scenarios() -> list[str]:
     -------
     list of str
         Scenario names in registration order, e.g. ``["K1"]``.
+    """
+@typing.overload
+def summarize(scenario: Scenario, result: dict, levels: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None) -> CaseSummary:
+    """
+    Percentiles of the position error pooled over runs and steps
+    k >= discard, the mean time per step and the paper's published values, per estimator (what
+    nlosloc-bench tabulates).
+    
+    Parameters
+    ----------
+    scenario : Scenario or str
+        The scenario the result was run on (an object, e.g. ``H2(params)``, or a registered name).
+    result : dict
+        The dict returned by :func:`run_monte_carlo`.
+    levels : list of float, optional
+        Percentage levels in [0, 100]; default :func:`default_levels` (50, 67, 90, 95).
+    
+    Returns
+    -------
+    CaseSummary
+    
+    Raises
+    ------
+    ValueError
+        If ``result`` is not a run of ``scenario``, misses a key, or an array has the wrong shape.
+    """
+@typing.overload
+def summarize(scenario: str, result: dict, levels: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None) -> CaseSummary:
+    """
+    Percentiles of the position error pooled over runs and steps
+    k >= discard, the mean time per step and the paper's published values, per estimator (what
+    nlosloc-bench tabulates).
+    
+    Parameters
+    ----------
+    scenario : Scenario or str
+        The scenario the result was run on (an object, e.g. ``H2(params)``, or a registered name).
+    result : dict
+        The dict returned by :func:`run_monte_carlo`.
+    levels : list of float, optional
+        Percentage levels in [0, 100]; default :func:`default_levels` (50, 67, 90, 95).
+    
+    Returns
+    -------
+    CaseSummary
+    
+    Raises
+    ------
+    ValueError
+        If ``result`` is not a run of ``scenario``, misses a key, or an array has the wrong shape.
     """

@@ -1,0 +1,65 @@
+#pragma once
+/// \file int_arg.hpp
+/// Unsigned 64-bit arguments (seeds, run indices, counts). pybind11's own std::uint64_t caster refuses a
+/// negative int with "incompatible function arguments" (TypeError), which names neither the argument nor the
+/// range. UInt64Arg accepts any object with __index__ (int, numpy integers) and keeps out-of-range values,
+/// so the function can raise ValueError naming the argument: get("seed").
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace nlosloc::bind {
+
+struct UInt64Arg {
+  std::uint64_t value = 0;
+  bool in_range = true;
+  std::string repr;  ///< the Python value, for the message when out of range
+
+  UInt64Arg() = default;
+  UInt64Arg(std::uint64_t v) : value(v) {}  // NOLINT(google-explicit-constructor): defaults of py::arg
+
+  /// The value; ValueError "<name>: expected an integer in [0, 2**64 - 1], got <repr>" when out of range.
+  std::uint64_t get(const char* name) const {
+    if (!in_range)
+      throw pybind11::value_error(std::string(name) + ": expected an integer in [0, 2**64 - 1], got " + repr);
+    return value;
+  }
+};
+
+}  // namespace nlosloc::bind
+
+namespace pybind11::detail {
+
+template <>
+struct type_caster<nlosloc::bind::UInt64Arg> {
+  PYBIND11_TYPE_CASTER(nlosloc::bind::UInt64Arg, const_name("int"));
+
+  bool load(handle src, bool /*convert*/) {
+    if (!src) return false;
+    // Integers only: a float seed is a TypeError, as for pybind11's int arguments.
+    if (PyFloat_Check(src.ptr())) return false;
+    object idx = reinterpret_steal<object>(PyNumber_Index(src.ptr()));
+    if (!idx) {
+      PyErr_Clear();
+      return false;
+    }
+    const unsigned long long v = PyLong_AsUnsignedLongLong(idx.ptr());
+    if (v == static_cast<unsigned long long>(-1) && PyErr_Occurred()) {
+      PyErr_Clear();  // negative or >= 2**64: kept for the function to name
+      value.in_range = false;
+      value.value = 0;
+      value.repr = pybind11::repr(src).cast<std::string>();
+      return true;
+    }
+    value = nlosloc::bind::UInt64Arg(static_cast<std::uint64_t>(v));
+    return true;
+  }
+
+  static handle cast(const nlosloc::bind::UInt64Arg& v, return_value_policy, handle) {
+    return PyLong_FromUnsignedLongLong(static_cast<unsigned long long>(v.value));
+  }
+};
+
+}  // namespace pybind11::detail
