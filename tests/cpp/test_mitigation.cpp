@@ -397,3 +397,82 @@ TEST_CASE("bias-augmented EKF: biases estimated, non-negative, state finite", "[
                                      }()),
                     Catch::Matchers::Contains("iterations"));
 }
+
+TEST_CASE("set_belief(b) keeps the time, set_belief(b, t) sets it: bias-augmented EKF and QP-bias EKF",
+          "[mitigation][input]") {
+  // A belief with every entry set (correlated covariance), applied after three steps (t = 0.3 s from
+  // t0 = 2 s): mean and covariance become b exactly, the time stays; with t it becomes t. Invalid
+  // arguments are refused, naming them, before anything changes.
+  Gaussian<4> b;
+  b.mean << 5.5, 6.25, 0.75, -0.5;
+  b.cov << 2.0, 0.3, 0.1, 0.0,  //
+      0.3, 1.5, 0.0, 0.05,      //
+      0.1, 0.0, 0.4, 0.02,      //
+      0.0, 0.05, 0.02, 0.3;
+  Gaussian<4> bad = b;
+  bad.cov(0, 0) = -1.0;
+  VecX z = exact_ranges();
+  z[2] += 3.0;  // NLOS on anchor 2: the QP-bias EKF estimates a bias
+  SECTION("BiasAugmentedEkf") {
+    BiasAugmentedEkfOptions o;
+    o.bias_prior_mean = 0.25;
+    o.bias_prior_std = 4.0;
+    BiasAugmentedEkf f(motion(), small_anchors(), belief_at(3, 4), o, 2.0);
+    for (int k = 0; k < 3; ++k) f.step(z);
+    const double t = f.time();
+    CHECK_THAT(t, WithinAbs(2.3, 1e-12));
+    REQUIRE(f.bias() != VecX::Constant(3, 0.25));  // the steps moved the biases off their prior
+    f.set_belief(b);
+    CHECK(f.time() == t);
+    CHECK(f.kinematic_mean() == b.mean);
+    CHECK(MatX(f.cov().topLeftCorner(4, 4)) == MatX(b.cov));
+    // the biases restart from the options' prior, uncorrelated with the kinematics
+    CHECK(f.bias() == VecX::Constant(3, 0.25));
+    CHECK(MatX(f.cov().bottomRightCorner(3, 3)) == MatX(16.0 * MatX::Identity(3, 3)));
+    CHECK(f.cov().topRightCorner(4, 3).isZero(0.0));
+    f.step(z);  // and the next step starts from that time
+    CHECK(f.time() == t + motion().dt());
+    f.set_belief(b, 7.25);
+    CHECK(f.time() == 7.25);
+    CHECK(f.kinematic_mean() == b.mean);
+    CHECK(MatX(f.cov().topLeftCorner(4, 4)) == MatX(b.cov));
+    const VecX x0 = f.mean();
+    CHECK_THROWS_AS(f.set_belief(b, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+    CHECK_THROWS_WITH(f.set_belief(b, std::numeric_limits<double>::infinity()),
+                      Catch::Matchers::Contains("t: expected a finite time"));
+    CHECK_THROWS_AS(f.set_belief(bad), std::invalid_argument);
+    CHECK_THROWS_WITH(f.set_belief(bad, 1.0), Catch::Matchers::Contains("belief"));
+    CHECK(f.time() == 7.25);
+    CHECK(f.mean() == x0);
+  }
+  SECTION("QpBiasEkf") {
+    QpBiasEkfOptions o;
+    o.noise.sigma0 = 1.0;
+    QpBiasEkf f(motion(), small_anchors(), belief_at(3, 4), o, nullptr, 2.0);
+    for (int k = 0; k < 3; ++k) f.step(z);
+    const double t = f.time();
+    CHECK_THAT(t, WithinAbs(2.3, 1e-12));
+    REQUIRE(f.nlos_detected());
+    REQUIRE(f.bias().sum() > 0.0);
+    f.set_belief(b);
+    CHECK(f.time() == t);
+    CHECK(f.mean() == b.mean);
+    CHECK(f.cov() == b.cov);
+    // the last bias and decision are cleared
+    CHECK(f.bias().isZero(0.0));
+    CHECK_FALSE(f.nlos_detected());
+    f.step(exact_ranges());
+    CHECK(f.time() == t + motion().dt());
+    f.set_belief(b, 7.25);
+    CHECK(f.time() == 7.25);
+    CHECK(f.mean() == b.mean);
+    CHECK(f.cov() == b.cov);
+    CHECK_THROWS_AS(f.set_belief(b, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+    CHECK_THROWS_WITH(f.set_belief(b, std::numeric_limits<double>::infinity()),
+                      Catch::Matchers::Contains("t: expected a finite time"));
+    CHECK_THROWS_AS(f.set_belief(bad), std::invalid_argument);
+    CHECK_THROWS_WITH(f.set_belief(bad, 1.0), Catch::Matchers::Contains("belief"));
+    CHECK(f.time() == 7.25);
+    CHECK(f.mean() == b.mean);
+  }
+}

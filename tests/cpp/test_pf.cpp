@@ -264,8 +264,9 @@ TEST_CASE("joint PF: the resampled set is the systematic resampling of the weigh
         CHECK((b.covariance() - a.covariance()).cwiseAbs().maxCoeff() <=
               1e-9 * a.covariance().cwiseAbs().maxCoeff());
       } else {
-        // the next pass moved the gathered ancestors: b's new estimate is finite and near a's
-        CHECK((b.estimate() - a.estimate()).head<2>().norm() < 1.0);
+        // the next pass moved the gathered ancestors: b's new estimate is finite and near a's (measured
+        // 1.6 mm on one thread, 2.1 mm on two; a's estimate is 1.02 m from the prior mean; was < 1 m)
+        CHECK((b.estimate() - a.estimate()).head<2>().norm() < 5e-3);
       }
     }
   }

@@ -334,3 +334,61 @@ TEST_CASE("snapshot estimators reject inf in y (NaN is a missing row) and keep t
   CHECK(r.valid);
   CHECK((r.theta.head<2>() - Vec<2>(100.0, 50.0)).norm() < 200.0);
 }
+
+TEST_CASE("snapshot baselines: options() returns the options they were built with", "[snapshot]") {
+  // every field away from its default; CHEN, CONG and URR also pass the Gauss-Newton settings on to their
+  // solver
+  const MeasurementStack st = rtoa_stack();
+  GaussNewtonOptions gn;
+  gn.max_iterations = 7;
+  gn.step_tolerance = 2.5e-3;
+  gn.initial_damping = 3e-5;
+  gn.max_damping = 4e8;
+  auto same_gn = [&](const GaussNewtonOptions& o) {
+    return o.max_iterations == 7 && o.step_tolerance == 2.5e-3 && o.initial_damping == 3e-5 &&
+           o.max_damping == 4e8;
+  };
+  const LosSolver los(st, gn);
+  CHECK(same_gn(los.options()));
+  const MleLos mle(st, gn);
+  CHECK(same_gn(mle.options()));
+  CHECK(same_gn(mle.solver().options()));
+
+  ChenOptions co;
+  co.min_size = 5;
+  co.reject_fraction = 0.3;
+  co.residual_floor = 1e-6;
+  const Chen chen(st, co, gn);
+  CHECK(chen.options().min_size == 5);
+  CHECK(chen.options().reject_fraction == 0.3);
+  CHECK(chen.options().residual_floor == 1e-6);
+  CHECK(same_gn(chen.solver().options()));
+
+  CongOptions cg;
+  cg.confidence = 0.95;
+  cg.negative_sigmas = 2.5;
+  cg.min_los = 5;
+  cg.min_rows = 4;
+  cg.fit_samples = 500;
+  cg.fit_seed = 77;
+  const Cong cong(st, cg, gn);
+  CHECK(cong.options().confidence == 0.95);
+  CHECK(cong.options().negative_sigmas == 2.5);
+  CHECK(cong.options().min_los == 5);
+  CHECK(cong.options().min_rows == 4);
+  CHECK(cong.options().fit_samples == 500);
+  CHECK(cong.options().fit_seed == 77);
+  CHECK(same_gn(cong.solver().options()));
+
+  UrruelaOptions uo;
+  uo.p_nlos = 0.3;
+  uo.p_ln = 0.01;
+  uo.p_nl = 0.02;
+  uo.nlos_span = 250.0;
+  const Urruela urr(st, uo, gn);
+  CHECK(urr.options().p_nlos == 0.3);
+  CHECK(urr.options().p_ln == 0.01);
+  CHECK(urr.options().p_nl == 0.02);
+  CHECK(urr.options().nlos_span == 250.0);
+  CHECK(same_gn(urr.solver().options()));
+}
