@@ -1,9 +1,11 @@
 /// \file micro_mitigation.cpp
 /// Time per step of Ke & Wu 2011's three trackers on K1 draws (Table 2): the proposed QP-bias EKF, the
-/// iterated NLOS (bias-augmented) EKF and the EKF, in the 3 LOS / 0 NLOS and 0 LOS / 3 NLOS cases, plus the
-/// box-QP solve alone. One templated body, registered per tracker with one line each.
+/// iterated NLOS (bias-augmented) EKF and the EKF, in the 3 LOS / 0 NLOS and 0 LOS / 3 NLOS cases (the
+/// proposed one also with proxsuite's QP), plus the box-QP solve alone with each solver. One templated body,
+/// registered per tracker with one line each.
 #include <benchmark/benchmark.h>
 
+#include <memory>
 #include <string>
 
 #include "nlosloc/filters/ekf.hpp"
@@ -31,6 +33,15 @@ struct Proposed {
     mitigation::QpBiasEkfOptions o;
     o.noise.sigma0 = k1().params().sigma_los;
     return mitigation::QpBiasEkf(k1().motion(), k1().params().anchors, g, o);
+  }
+};
+/// The same with proxsuite's dense QP for eq. (14) (the default is EnumerationBoxQp; README).
+struct ProposedProxsuite {
+  static mitigation::QpBiasEkf make(const Gaussian<4>& g) {
+    mitigation::QpBiasEkfOptions o;
+    o.noise.sigma0 = k1().params().sigma_los;
+    return mitigation::QpBiasEkf(k1().motion(), k1().params().anchors, g, o,
+                                 mitigation::make_proxsuite_box_qp(3));
   }
 };
 struct Iterated {
@@ -70,18 +81,26 @@ void BM_K1Step(benchmark::State& state) {
 }
 
 BENCHMARK_TEMPLATE(BM_K1Step, Proposed)->Arg(0)->Arg(3);
+BENCHMARK_TEMPLATE(BM_K1Step, ProposedProxsuite)->Arg(0)->Arg(3);
 BENCHMARK_TEMPLATE(BM_K1Step, Iterated)->Arg(0)->Arg(3);
 BENCHMARK_TEMPLATE(BM_K1Step, PlainEkf)->Arg(0)->Arg(3);
 
-/// The box QP of eq. (14) alone (3 variables, rank-1 Hessian as in K1), init + solve.
+/// The box QP of eq. (14) alone (3 variables, rank-1 Hessian as in K1's snapshot form), one solve:
+/// Arg(0) proxsuite (init + solve), Arg(1) EnumerationBoxQp.
 void BM_BoxQp3(benchmark::State& state) {
-  auto qp = mitigation::make_box_qp(3);
+  std::unique_ptr<mitigation::BoxQp> qp;
+  if (state.range(0) == 0) {
+    qp = mitigation::make_proxsuite_box_qp(3);
+  } else {
+    qp = std::make_unique<mitigation::EnumerationBoxQp>(3);
+  }
+  state.SetLabel(qp->name());
   const Vec<3> c(0.5, 0.6, 0.62);
   const MatX H = 2.0 * c * c.transpose();
   const VecX g = -2.0 * 3.0 * c;
   const VecX lo = VecX::Zero(3), hi = VecX::Constant(3, 20.0);
   for (auto _ : state) benchmark::DoNotOptimize(qp->solve(H, g, lo, hi));
 }
-BENCHMARK(BM_BoxQp3);
+BENCHMARK(BM_BoxQp3)->Arg(0)->Arg(1);
 
 }  // namespace

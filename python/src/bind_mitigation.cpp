@@ -1,7 +1,8 @@
 /// \file bind_mitigation.cpp
 /// nlosloc.mitigation: Ke & Wu 2011's box-QP adapter, Sec. 3 bias estimation, the proposed QP-bias EKF and
-/// the bias-augmented ("iterated NLOS") EKF, with the C++ names. Solvers are chosen by name ("proxsuite",
-/// the default, or "failing", a solver that never solves, to exercise the fallbacks).
+/// the bias-augmented ("iterated NLOS") EKF, with the C++ names. Solvers are chosen by name: "default"
+/// (the C++ default of the class), "enumeration", "proxsuite", or "failing", a solver that never solves, to
+/// exercise the fallbacks.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -22,9 +23,12 @@ using namespace nlosloc::mitigation;
 namespace {
 
 std::unique_ptr<BoxQp> solver_by_name(const std::string& name, int n, const BoxQpSettings& s) {
-  if (name == "proxsuite") return make_box_qp(n, s);
+  if (name == "default") return make_box_qp(n, s);
+  if (name == "enumeration") return std::make_unique<EnumerationBoxQp>(n, s);
+  if (name == "proxsuite") return make_proxsuite_box_qp(n, s);
   if (name == "failing") return std::make_unique<FailingBoxQp>(n);
-  throw std::invalid_argument("solver: expected 'proxsuite' or 'failing', got '" + name + "'");
+  throw std::invalid_argument("solver: expected 'default', 'enumeration', 'proxsuite' or 'failing', got '" +
+                              name + "'");
 }
 
 Gaussian<4> to_belief4(const VecX& mean, const MatX& cov) {
@@ -64,7 +68,7 @@ void bind_mitigation(pybind11::module_& m) {
 
   py::class_<BoxQp>(m, "BoxQp",
                     "Box-constrained convex QP: minimise 1/2 x^T H x + g^T x, lower <= x <= upper (Ke & Wu "
-                    "eq. 14). Build one with make_box_qp(n) (proxsuite dense QP).")
+                    "eq. 14). Build one with make_box_qp(n).")
       .def_property_readonly("size", &BoxQp::size)
       .def_property_readonly("name", &BoxQp::name)
       .def(
@@ -80,9 +84,13 @@ void bind_mitigation(pybind11::module_& m) {
   m.def(
       "make_box_qp",
       [](int n, const BoxQpSettings& s, const std::string& solver) { return solver_by_name(solver, n, s); },
-      py::arg("n"), py::arg("settings") = BoxQpSettings(), py::arg("solver") = "proxsuite",
-      "A BoxQp of n variables: solver 'proxsuite' (dense QP, default) or 'failing' (never solves).");
+      py::arg("n"), py::arg("settings") = BoxQpSettings(), py::arg("solver") = "default",
+      "A BoxQp of n variables: solver 'default' (make_box_qp: proxsuite when built with it, else "
+      "'enumeration'), 'enumeration' (exact KKT search over the active sets, n <= 8, no allocation in "
+      "solve; on a singular H it returns a vertex of the optimal set), 'proxsuite' (dense QP) or "
+      "'failing' (never solves).");
   m.attr("have_default_box_qp") = have_default_box_qp();
+  m.attr("have_proxsuite_box_qp") = have_proxsuite_box_qp();
 
   // ---- Sec. 3 bias estimation ---------------------------------------------------------------------
   py::enum_<ReferenceKind>(m, "ReferenceKind", "How the reference point X0 was obtained (Sec. 3).")
@@ -145,7 +153,7 @@ void bind_mitigation(pybind11::module_& m) {
              return std::make_unique<BiasEstimator>(
                  anchors, solver_by_name(solver, static_cast<int>(anchors.rows()), s));
            }),
-           py::arg("anchors"), py::arg("solver") = "proxsuite", py::arg("settings") = BoxQpSettings(),
+           py::arg("anchors"), py::arg("solver") = "default", py::arg("settings") = BoxQpSettings(),
            "anchors (M, 2), M >= 3.")
       .def(
           "estimate",
@@ -167,6 +175,9 @@ void bind_mitigation(pybind11::module_& m) {
       .def_property("soft_threshold", &BiasEstimator::soft_threshold, &BiasEstimator::set_soft_threshold,
                     "lambda of the soft threshold of estimate_from_innovation (0 = eq. 14 as written): with "
                     "diagonal D, b_i = clip(r_i - lambda sqrt(D_ii), 0, b_i^U).")
+      .def_property_readonly(
+          "solver_name", [](const BiasEstimator& e) { return e.solver().name(); },
+          "Name of the eq. (14) solver in use.")
       .def_property_readonly("size", &BiasEstimator::size)
       .def_property_readonly("anchors", &BiasEstimator::anchors)
       .def_property_readonly("H0", &BiasEstimator::H0, "Eq. (10), (M, 2).")
@@ -215,13 +226,20 @@ void bind_mitigation(pybind11::module_& m) {
       .def(py::init([](const ConstantVelocity2& motion, const MatX& anchors, const VecX& mean,
                        const MatX& cov, const QpBiasEkfOptions& o, const std::string& solver, double t0) {
              nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
-             return std::make_unique<QpBiasEkf>(
-                 motion, anchors, to_belief4(mean, cov), o,
-                 solver_by_name(solver, static_cast<int>(std::max<Eigen::Index>(anchors.rows(), 1)), {}), t0);
+             // "default": QpBiasEkf's own choice (EnumerationBoxQp for the prediction reference, M <= 8)
+             std::unique_ptr<BoxQp> qp =
+                 solver == "default"
+                     ? nullptr
+                     : solver_by_name(solver, static_cast<int>(std::max<Eigen::Index>(anchors.rows(), 1)),
+                                      {});
+             return std::make_unique<QpBiasEkf>(motion, anchors, to_belief4(mean, cov), o, std::move(qp), t0);
            }),
            py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
-           py::arg("options") = QpBiasEkfOptions(), py::arg("solver") = "proxsuite", py::arg("t0") = 0.0,
+           py::arg("options") = QpBiasEkfOptions(), py::arg("solver") = "default", py::arg("t0") = 0.0,
            "motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4).")
+      .def_property_readonly(
+          "solver_name", [](const QpBiasEkf& f) { return f.bias_estimator().solver().name(); },
+          "Name of the eq. (14) solver in use (\"enumeration\", \"proxsuite-dense\", ...).")
       .def("predict", &QpBiasEkf::predict, "Eqs. (20)-(21).")
       .def("update", &QpBiasEkf::update, py::arg("z"), "Update with ranges z (M,), NaN = missing.")
       .def("step", &QpBiasEkf::step, py::arg("z"), "predict() then update(z).")

@@ -10,10 +10,6 @@ import scipy.sparse as sp
 
 from nlosloc import mitigation, models
 
-pytestmark = pytest.mark.skipif(
-    not mitigation.have_default_box_qp, reason="nlosloc built without proxsuite"
-)
-
 ANCHORS = np.array([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]])
 EXACT = np.array([5.0, np.sqrt(65.0), np.sqrt(45.0)])  # ranges from (3, 4)
 K1_ANCHORS = np.array([[0.0, 0.0], [8600.0, 0.0], [4300.0, 7500.0]])
@@ -23,13 +19,32 @@ def motion(dt: float = 0.1, accel: float = 1.0) -> models.ConstantVelocity2:
     return models.ConstantVelocity2(dt, accel, models.VelocityNoise.WhiteAcceleration)
 
 
-def test_box_qp_small_problem_and_errors() -> None:
-    qp = mitigation.make_box_qp(3)
+@pytest.mark.parametrize("solver", ["default", "enumeration", "proxsuite"])
+def test_box_qp_small_problem_and_errors(solver: str) -> None:
+    if solver == "proxsuite" and not mitigation.have_proxsuite_box_qp:
+        pytest.skip("nlosloc built without proxsuite")
+    qp = mitigation.make_box_qp(3, solver=solver)
+    general = "proxsuite-dense" if mitigation.have_proxsuite_box_qp else "enumeration"
+    expected = {"default": general, "enumeration": "enumeration", "proxsuite": "proxsuite-dense"}
+    assert qp.name == expected[solver]
     h = np.diag([2.0, 0.0, 1.0])
     res = qp.solve(h, np.array([-4.0, 1.0, 3.0]), np.zeros(3), np.array([1.0, 5.0, 5.0]))
     assert res.ok() and res.status == mitigation.QpStatus.Solved
     np.testing.assert_allclose(qp.x, [1.0, 0.0, 0.0], atol=1e-7)
     assert res.objective == pytest.approx(-3.0, abs=1e-7)
+    with pytest.raises(ValueError, match=r"^n: expected 1 <= n <= 8 variables for the enumeration"):
+        mitigation.make_box_qp(9, solver="enumeration")
+    # QpBiasEkf's default: the enumeration for the (positive definite) prediction-referenced QP, the
+    # general default for the rank-deficient snapshot form (Sec. 3), as BiasEstimator
+    m4 = motion()
+    f = mitigation.QpBiasEkf(m4, ANCHORS, np.array([3.0, 4.0, 0, 0]), np.eye(4))
+    assert f.solver_name == "enumeration"
+    opt = mitigation.QpBiasEkfOptions()
+    opt.reference = mitigation.BiasReference.Snapshot
+    f = mitigation.QpBiasEkf(m4, ANCHORS, np.array([3.0, 4.0, 0, 0]), np.eye(4), opt)
+    assert f.solver_name == general
+    assert mitigation.BiasEstimator(ANCHORS).solver_name == general
+    assert mitigation.BiasEstimator(ANCHORS, solver="enumeration").solver_name == "enumeration"
     with pytest.raises(ValueError, match="lower"):
         qp.solve(h, np.zeros(3), np.ones(3), np.zeros(3))
     with pytest.raises(ValueError, match="solver"):

@@ -1,8 +1,9 @@
 #pragma once
 /// \file box_qp_proxsuite.hpp
 /// BoxQp on proxsuite's dense QP (proxqp::dense::QP with native box constraints), and make_box_qp(), the
-/// default solver of the mitigation classes. The proxsuite part compiles only when NLOSLOC_HAVE_PROXSUITE is
-/// defined (link nlosloc::qp); without it make_box_qp() throws and callers must pass their own BoxQp.
+/// general-purpose default (proxsuite, else EnumerationBoxQp of box_qp_enumeration.hpp up to 8 variables).
+/// The proxsuite part compiles only when NLOSLOC_HAVE_PROXSUITE is defined (link nlosloc::qp); without it
+/// make_proxsuite_box_qp() throws.
 ///
 /// Settings follow DESIGN.md's proxsuite notes: check_duality_gap = true and eps_duality_gap_abs = 1e-9
 /// (default tolerances stop ~1e-5 away on rank-deficient box least squares), and every solve re-initialises
@@ -13,6 +14,7 @@
 #include <string>
 
 #include "nlosloc/mitigation/box_qp.hpp"
+#include "nlosloc/mitigation/box_qp_enumeration.hpp"
 
 #ifdef NLOSLOC_HAVE_PROXSUITE
 #include <proxsuite/proxqp/dense/dense.hpp>
@@ -54,8 +56,8 @@ class ProxsuiteBoxQp final : public BoxQp {
     QpResult res;
     res.objective = std::nan("");
 #ifdef EIGEN_RUNTIME_NO_MALLOC
-    // proxsuite's dense init/solve allocate (Eigen temporaries) on every call: the one known exception to
-    // "no allocation in a step" (README). Lifted here only, so the no-malloc test checks everything else.
+    // proxsuite's dense init/solve allocate (Eigen temporaries) on every call, which is why QpBiasEkf's
+    // default solver is EnumerationBoxQp (README). Lifted here only, so the no-malloc test checks the rest.
     struct AllowMalloc {
       bool was = Eigen::internal::is_malloc_allowed();
       AllowMalloc() { Eigen::internal::set_is_malloc_allowed(true); }
@@ -109,8 +111,8 @@ class ProxsuiteBoxQp final : public BoxQp {
 };
 #endif
 
-/// True when a default solver is compiled in (proxsuite found at build time).
-inline constexpr bool have_default_box_qp() {
+/// True when proxsuite was found at build time (ProxsuiteBoxQp exists).
+inline constexpr bool have_proxsuite_box_qp() {
 #ifdef NLOSLOC_HAVE_PROXSUITE
   return true;
 #else
@@ -118,17 +120,35 @@ inline constexpr bool have_default_box_qp() {
 #endif
 }
 
-/// The default BoxQp of size n (proxsuite dense QP). Throws std::runtime_error when nlosloc was built
-/// without proxsuite (then pass a BoxQp of your own to the mitigation classes).
-inline std::unique_ptr<BoxQp> make_box_qp(int n, const BoxQpSettings& settings = {}) {
+/// True: make_box_qp always has a solver for n <= 8 (proxsuite when compiled in, else EnumerationBoxQp).
+inline constexpr bool have_default_box_qp() { return true; }
+
+/// proxsuite's dense QP as a BoxQp of size n; std::runtime_error when nlosloc was built without proxsuite.
+inline std::unique_ptr<BoxQp> make_proxsuite_box_qp(int n, const BoxQpSettings& settings = {}) {
 #ifdef NLOSLOC_HAVE_PROXSUITE
   return std::make_unique<ProxsuiteBoxQp>(n, settings);
 #else
   (void)n;
   (void)settings;
   throw std::runtime_error(
-      "make_box_qp: nlosloc was built without proxsuite (link nlosloc::qp, or pass a BoxQp of your own)");
+      "make_proxsuite_box_qp: nlosloc was built without proxsuite (link nlosloc::qp, or use "
+      "EnumerationBoxQp for n <= 8)");
 #endif
+}
+
+/// The general-purpose BoxQp of size n: proxsuite's dense QP when compiled in, else EnumerationBoxQp
+/// (n <= 8; std::runtime_error naming n above). On a rank-deficient H the minimiser is not unique and the
+/// two pick different ones (proxsuite's proximal iterations from 0 land near the least-norm one, the
+/// enumeration on a vertex of the optimal set), which changes what Ke & Wu's Sec. 3 snapshot form
+/// (rank M - 2) returns; so proxsuite stays the default here, and QpBiasEkf takes the enumeration only
+/// for its positive definite prediction-referenced QP.
+inline std::unique_ptr<BoxQp> make_box_qp(int n, const BoxQpSettings& settings = {}) {
+  if (have_proxsuite_box_qp() || n < 1) return make_proxsuite_box_qp(n, settings);
+  if (n > EnumerationBoxQp::kMaxVariables)
+    throw std::runtime_error("make_box_qp: n = " + std::to_string(n) +
+                             " variables needs proxsuite (the enumeration solver takes n <= 8), and nlosloc "
+                             "was built without it; pass a BoxQp of your own");
+  return std::make_unique<EnumerationBoxQp>(n, settings);
 }
 
 }  // namespace nlosloc::mitigation

@@ -109,7 +109,7 @@ class QpBiasEkf {
   using Cov = Mat<4, 4>;
 
   /// motion: eq. (16) model (ConstantVelocity2 with white acceleration); anchors M x 2; initial belief;
-  /// solver: BoxQp of size M for eq. (14) (default make_box_qp(M)); t0 start time (s).
+  /// solver: BoxQp of size M for eq. (14) (default: see solver_or_default); t0 start time (s).
   QpBiasEkf(const ConstantVelocity2& motion, const MatX& anchors, const Gaussian<4>& initial,
             const QpBiasEkfOptions& options = {}, std::unique_ptr<BoxQp> solver = nullptr, double t0 = 0.0)
       : motion_(motion),
@@ -261,13 +261,19 @@ class QpBiasEkf {
     return res;
   }
 
-  /// The given solver, else make_box_qp(M); a FailingBoxQp when no default exists and mitigation is off.
+  /// The given solver, else: with the prediction reference (eq. 14 with Sigma_v = F P F^T + R, positive
+  /// definite, so a unique minimiser) and M <= 8, EnumerationBoxQp (exact, no allocation in a step);
+  /// otherwise make_box_qp(M) (proxsuite; the snapshot form's minimiser is not unique, see
+  /// box_qp_proxsuite.hpp). A FailingBoxQp when mitigation is off and make_box_qp has no solver of size M.
   static std::unique_ptr<BoxQp> solver_or_default(std::unique_ptr<BoxQp> s, const MatX& anchors,
                                                   const QpBiasEkfOptions& o) {
     if (s) return s;
-    if (!have_default_box_qp() && !o.mitigate)
-      return std::make_unique<FailingBoxQp>(static_cast<int>(std::max<Eigen::Index>(anchors.rows(), 1)));
-    return make_box_qp(static_cast<int>(std::max<Eigen::Index>(anchors.rows(), 1)));
+    const int m = static_cast<int>(std::max<Eigen::Index>(anchors.rows(), 1));
+    if (o.reference == BiasReference::kPrediction && m <= EnumerationBoxQp::kMaxVariables)
+      return std::make_unique<EnumerationBoxQp>(m);
+    if (!o.mitigate && !have_proxsuite_box_qp() && m > EnumerationBoxQp::kMaxVariables)
+      return std::make_unique<FailingBoxQp>(m);
+    return make_box_qp(m);
   }
 
   ConstantVelocity2 motion_;

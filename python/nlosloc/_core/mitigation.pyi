@@ -7,7 +7,7 @@ import nlosloc._core.models
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BiasAugmentedEkf', 'BiasAugmentedEkfOptions', 'BiasEstimate', 'BiasEstimator', 'BiasReference', 'BoxQp', 'BoxQpSettings', 'FLAG_BOUNDS_CLAMPED', 'FLAG_DEGENERATE_GEOMETRY', 'FLAG_MISSING_ROWS', 'FLAG_QP_FAILED', 'FLAG_REFERENCE_FALLBACK', 'FLAG_UPDATE_REJECTED', 'MitigationStep', 'QpBiasEkf', 'QpBiasEkfOptions', 'QpResult', 'QpStatus', 'RangeNoise', 'ReferenceKind', 'ReferencePoint', 'have_default_box_qp', 'make_box_qp', 'reference_point']
+__all__: list[str] = ['BiasAugmentedEkf', 'BiasAugmentedEkfOptions', 'BiasEstimate', 'BiasEstimator', 'BiasReference', 'BoxQp', 'BoxQpSettings', 'FLAG_BOUNDS_CLAMPED', 'FLAG_DEGENERATE_GEOMETRY', 'FLAG_MISSING_ROWS', 'FLAG_QP_FAILED', 'FLAG_REFERENCE_FALLBACK', 'FLAG_UPDATE_REJECTED', 'MitigationStep', 'QpBiasEkf', 'QpBiasEkfOptions', 'QpResult', 'QpStatus', 'RangeNoise', 'ReferenceKind', 'ReferencePoint', 'have_default_box_qp', 'have_proxsuite_box_qp', 'make_box_qp', 'reference_point']
 class QpStatus:
     """
     Outcome of BoxQp.solve.
@@ -131,7 +131,7 @@ class QpResult:
         ...
 class BoxQp:
     """
-    Box-constrained convex QP: minimise 1/2 x^T H x + g^T x, lower <= x <= upper (Ke & Wu eq. 14). Build one with make_box_qp(n) (proxsuite dense QP).
+    Box-constrained convex QP: minimise 1/2 x^T H x + g^T x, lower <= x <= upper (Ke & Wu eq. 14). Build one with make_box_qp(n).
     """
     def solve(self, H: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], g: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], lower: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], upper: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> QpResult:
         """
@@ -325,7 +325,7 @@ class BiasEstimator:
     """
     Ke & Wu Sec. 3 NLOS bias estimation for fixed anchors.
     """
-    def __init__(self, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], solver: str = 'proxsuite', settings: BoxQpSettings = ...) -> None:
+    def __init__(self, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], solver: str = 'default', settings: BoxQpSettings = ...) -> None:
         """
         anchors (M, 2), M >= 3.
         """
@@ -387,6 +387,11 @@ class BiasEstimator:
     @soft_threshold.setter
     def soft_threshold(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
+    @property
+    def solver_name(self) -> str:
+        """
+        Name of the eq. (14) solver in use.
+        """
     @property
     def sparsity(self) -> float:
         """
@@ -509,7 +514,7 @@ class QpBiasEkf:
     """
     Ke & Wu 2011 proposed tracker: EKF with QP-estimated NLOS biases (eq. 25) and the innovation test of eqs. (31)-(32). State [x, y, vx, vy].
     """
-    def __init__(self, motion: nlosloc._core.models.ConstantVelocity2, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: QpBiasEkfOptions = ..., solver: str = 'proxsuite', t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+    def __init__(self, motion: nlosloc._core.models.ConstantVelocity2, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: QpBiasEkfOptions = ..., solver: str = 'default', t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         """
         motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4).
         """
@@ -568,6 +573,11 @@ class QpBiasEkf:
     @property
     def options(self) -> QpBiasEkfOptions:
         ...
+    @property
+    def solver_name(self) -> str:
+        """
+        Name of the eq. (14) solver in use ("enumeration", "proxsuite-dense", ...).
+        """
     @property
     def time(self) -> float:
         ...
@@ -654,9 +664,9 @@ class BiasAugmentedEkf:
     @property
     def time(self) -> float:
         ...
-def make_box_qp(n: typing.SupportsInt | typing.SupportsIndex, settings: BoxQpSettings = ..., solver: str = 'proxsuite') -> BoxQp:
+def make_box_qp(n: typing.SupportsInt | typing.SupportsIndex, settings: BoxQpSettings = ..., solver: str = 'default') -> BoxQp:
     """
-    A BoxQp of n variables: solver 'proxsuite' (dense QP, default) or 'failing' (never solves).
+    A BoxQp of n variables: solver 'default' (make_box_qp: proxsuite when built with it, else 'enumeration'), 'enumeration' (exact KKT search over the active sets, n <= 8, no allocation in solve; on a singular H it returns a vertex of the optimal set), 'proxsuite' (dense QP) or 'failing' (never solves).
     """
 def reference_point(anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], hint: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None) -> ReferencePoint:
     """
@@ -669,3 +679,4 @@ FLAG_QP_FAILED: int = 4
 FLAG_REFERENCE_FALLBACK: int = 1
 FLAG_UPDATE_REJECTED: int = 32
 have_default_box_qp: bool = True
+have_proxsuite_box_qp: bool = True

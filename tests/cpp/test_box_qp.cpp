@@ -1,0 +1,174 @@
+// EnumerationBoxQp, the default solver of Ke & Wu eq. (14): hand cases, the KKT conditions on random
+// positive definite and rank-deficient problems, agreement with proxsuite, warm start and argument checks.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+
+#include "nlosloc/mitigation/box_qp_enumeration.hpp"
+#include "nlosloc/mitigation/box_qp_proxsuite.hpp"
+#include "nlosloc/mitigation/qp_bias_ekf.hpp"
+
+using namespace nlosloc;
+using namespace nlosloc::mitigation;
+using Catch::Matchers::WithinAbs;
+
+namespace {
+
+struct Problem {
+  MatX H;
+  VecX g, lower, upper;
+};
+
+/// H = A A^T with A n x rank (rank < n: positive semidefinite, singular), g and a box around 0 of random
+/// widths, some variables with lower == upper.
+Problem random_problem(std::mt19937_64& rng, int n, int rank) {
+  std::normal_distribution<double> N(0.0, 1.0);
+  std::uniform_real_distribution<double> U(0.0, 3.0);
+  Problem p;
+  MatX A(n, rank);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < rank; ++j) A(i, j) = N(rng);
+  p.H = A * A.transpose();
+  p.g.resize(n);
+  p.lower.resize(n);
+  p.upper.resize(n);
+  for (int i = 0; i < n; ++i) {
+    p.g[i] = 3.0 * N(rng);
+    p.lower[i] = -U(rng);
+    p.upper[i] = (rng() % 10 == 0) ? p.lower[i] : U(rng);
+  }
+  return p;
+}
+
+/// The KKT conditions of the box QP at x, checked independently of the solver: x in the box; the
+/// gradient H x + g zero on the variables strictly inside, >= 0 at a lower bound, <= 0 at an upper one.
+void check_kkt(const Problem& p, const VecX& x, double tol) {
+  const VecX grad = p.H * x + p.g;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    CAPTURE(i, x[i], grad[i], p.lower[i], p.upper[i]);
+    REQUIRE(x[i] >= p.lower[i]);
+    REQUIRE(x[i] <= p.upper[i]);
+    if (p.lower[i] == p.upper[i]) continue;
+    if (x[i] == p.lower[i]) {
+      CHECK(grad[i] >= -tol);
+    } else if (x[i] == p.upper[i]) {
+      CHECK(grad[i] <= tol);
+    } else {
+      CHECK(std::abs(grad[i]) <= tol);
+    }
+  }
+}
+
+double objective(const Problem& p, const VecX& x) { return 0.5 * x.dot(p.H * x) + p.g.dot(x); }
+
+}  // namespace
+
+TEST_CASE("enumeration box QP: hand cases", "[mitigation][qp]") {
+  EnumerationBoxQp qp(3);
+  CHECK(qp.name() == "enumeration");
+  // min 1/2 x^T diag(2, 0, 1) x + g^T x, g = (-4, 1, 3), 0 <= x <= (1, 5, 5): x_0 = min(4/2, 1) = 1 at its
+  // upper bound (gradient -2 <= 0), x_1 and x_2 at 0 (gradients 1 and 3 >= 0); f = 1 - 4 = -3.
+  const MatX H = Vec<3>(2, 0, 1).asDiagonal();
+  const QpResult r = qp.solve(H, Vec<3>(-4, 1, 3), VecX::Zero(3), Vec<3>(1, 5, 5));
+  REQUIRE(r.ok());
+  CHECK(qp.x() == Vec<3>(1, 0, 0));
+  CHECK(r.objective == -3.0);
+  // Interior minimiser: x = -H^-1 g = (1, -2, 0.5), inside the box.
+  const QpResult r2 =
+      qp.solve(H + MatX::Identity(3, 3), Vec<3>(-3, 2, -1), VecX::Constant(3, -5.0), VecX::Constant(3, 5.0));
+  REQUIRE(r2.ok());
+  CHECK((qp.x() - Vec<3>(1, -2, 0.5)).cwiseAbs().maxCoeff() < 1e-15);
+  CHECK_THAT(r2.objective, WithinAbs(-3.75, 1e-12));  // f = 1/2 g^T x = 1/2 (-3 - 4 - 0.5)
+  // H = 0, g = 0: every point is a minimiser; f = 0 at the one returned.
+  const QpResult r3 = qp.solve(MatX::Zero(3, 3), VecX::Zero(3), Vec<3>(1, -1, 2), Vec<3>(2, 1, 2));
+  REQUIRE(r3.ok());
+  CHECK(r3.objective == 0.0);
+  CHECK(qp.x()[2] == 2.0);  // lower == upper
+  // Rank 1 (H = [1 1; 1 1]), x_0 in [1, 2], x_1 in [-5, 5], g = 0: the minimisers are x_0 + x_1 = 0, where
+  // the all-free assignment's H_FF is singular and must be skipped for one with x_0 at a bound.
+  EnumerationBoxQp q2(2);
+  const QpResult r4 = q2.solve(MatX::Ones(2, 2), VecX::Zero(2), Vec<2>(1, -5), Vec<2>(2, 5));
+  REQUIRE(r4.ok());
+  CHECK_THAT(q2.x().sum(), WithinAbs(0.0, 1e-15));
+  CHECK(r4.objective == 0.0);
+}
+
+TEST_CASE("enumeration box QP: KKT on random definite and singular problems, agrees with proxsuite",
+          "[mitigation][qp]") {
+  std::mt19937_64 rng(20110127);
+  int compared = 0;
+  double worst_obj = 0.0, worst_x = 0.0;
+  for (int n = 1; n <= EnumerationBoxQp::kMaxVariables; ++n) {
+    EnumerationBoxQp qp(n);
+    for (int rank : {n, std::max(1, n - 2)}) {
+      for (int t = 0; t < 40; ++t) {
+        CAPTURE(n, rank, t);
+        const Problem p = random_problem(rng, n, rank);
+        const QpResult r = qp.solve(p.H, p.g, p.lower, p.upper);
+        REQUIRE(r.ok());
+        CHECK(r.iterations >= 1);
+        const double scale = 1.0 + p.g.cwiseAbs().maxCoeff() + 3.0 * p.H.cwiseAbs().maxCoeff();
+        check_kkt(p, qp.x(), 1e-9 * scale);
+        CHECK_THAT(r.objective, WithinAbs(objective(p, qp.x()), 1e-12 * scale));
+        if (have_proxsuite_box_qp()) {
+          auto ref = make_proxsuite_box_qp(n);
+          const QpResult rr = ref->solve(p.H, p.g, p.lower, p.upper);
+          REQUIRE(rr.ok());
+          // the enumeration is exact: never above proxsuite's (tolerance 1e-9) objective
+          CHECK(r.objective <= rr.objective + 1e-9 * scale);
+          worst_obj = std::max(worst_obj, std::abs(r.objective - rr.objective) / scale);
+          if (rank == n) worst_x = std::max(worst_x, (qp.x() - ref->x()).cwiseAbs().maxCoeff());
+          ++compared;
+        }
+      }
+    }
+  }
+  if (have_proxsuite_box_qp()) {
+    CHECK(compared == 640);
+    CHECK(worst_obj < 1e-8);
+    CHECK(worst_x < 1e-6);  // definite: the minimiser is unique
+  }
+}
+
+TEST_CASE("enumeration box QP: warm start, defaults and argument checks", "[mitigation][qp]") {
+  std::mt19937_64 rng(7);
+  const Problem p = random_problem(rng, 6, 6);
+  EnumerationBoxQp qp(6);
+  const QpResult first = qp.solve(p.H, p.g, p.lower, p.upper);
+  REQUIRE(first.ok());
+  const VecX x = qp.x();
+  const QpResult again = qp.solve(p.H, p.g, p.lower, p.upper);
+  REQUIRE(again.ok());
+  CHECK(again.iterations == 1);  // the last solve's active set is tried first
+  CHECK(qp.x() == x);
+  // make_box_qp: proxsuite when built with it (it picks near the least-norm minimiser on a singular H),
+  // else the enumeration; QpBiasEkf: the enumeration for its positive definite prediction-referenced QP.
+  const std::string general = have_proxsuite_box_qp() ? "proxsuite-dense" : "enumeration";
+  CHECK(make_box_qp(3)->name() == general);
+  CHECK(make_box_qp(8)->name() == general);
+  if (have_proxsuite_box_qp()) CHECK(make_box_qp(9)->name() == "proxsuite-dense");
+  const MatX anchors = (MatX(3, 2) << 0, 0, 10, 0, 0, 10).finished();
+  Gaussian<4> g0;
+  g0.mean << 3, 4, 0, 0;
+  g0.cov = Mat<4, 4>::Identity();
+  const ConstantVelocity2 mo(0.1, 1.0, VelocityNoise::kWhiteAcceleration);
+  CHECK(QpBiasEkf(mo, anchors, g0).bias_estimator().solver().name() == "enumeration");
+  QpBiasEkfOptions snap;
+  snap.reference = BiasReference::kSnapshot;
+  CHECK(QpBiasEkf(mo, anchors, g0, snap).bias_estimator().solver().name() == general);
+  CHECK(BiasEstimator(anchors).solver().name() == general);
+  CHECK_THROWS_WITH(EnumerationBoxQp(9),
+                    "n: expected 1 <= n <= 8 variables for the enumeration solver, got 9");
+  CHECK_THROWS_AS(EnumerationBoxQp(0), std::invalid_argument);
+  CHECK_THROWS_AS(make_box_qp(0), std::invalid_argument);
+  BoxQpSettings bad;
+  bad.eps_abs = 0.0;
+  CHECK_THROWS_WITH(EnumerationBoxQp(3, bad), Catch::Matchers::Contains("settings.eps_abs"));
+  CHECK_THROWS_WITH(qp.solve(p.H, p.g, p.upper, p.lower), Catch::Matchers::Contains("lower"));
+  CHECK_THROWS_WITH(qp.solve(p.H.topLeftCorner(5, 5), p.g, p.lower, p.upper), Catch::Matchers::Contains("H"));
+  // a rejected call leaves the last minimiser
+  CHECK(qp.x() == x);
+}
