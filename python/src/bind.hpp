@@ -4,6 +4,10 @@
 /// python/src/bind_<name>.cpp and called by module.cpp with the submodule it fills.
 #include <pybind11/pybind11.h>
 
+namespace nlosloc::sim {
+class Registry;
+}
+
 /// nlosloc.core: aliases, Gaussian, sigma points, robust Cholesky, log-sum-exp, Rng (bind_core.cpp).
 void bind_core(pybind11::module_& m);
 /// nlosloc.noise: noise distributions, pdf, sampling, Gaussian-quantile transform (bind_noise.cpp).
@@ -29,3 +33,6 @@ void bind_sim(pybind11::module_& m);
 void bind_sim_ke_wu(pybind11::module_& m);
 /// nlosloc.sim, part 3: summaries, text tables, estimator_seed, percentile (bind_sim_report.cpp).
 void bind_sim_report(pybind11::module_& m);
+/// The built-in registry (nlosloc::sim::registry()), defined in bind_sim.cpp: the only file that includes
+/// its inline definition, since every file that does compiles every scenario's estimators (about 140 s).
+const nlosloc::sim::Registry& python_registry();

@@ -303,6 +303,8 @@ void bind_scenarios(py::module_& m) {
 
 }  // namespace
 
+const sim::Registry& python_registry() { return sim::registry(); }
+
 void bind_sim(py::module_& m) {
   bind_scenarios(m);
   bind_sim_ke_wu(m);

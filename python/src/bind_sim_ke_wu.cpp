@@ -15,7 +15,7 @@
 #include "nlosloc/sim/k1.hpp"
 #include "nlosloc/sim/k2.hpp"
 #include "nlosloc/sim/k3.hpp"
-#include "nlosloc/sim/registry.hpp"
+#include "nlosloc/sim/scenario.hpp"
 #include "params_field.hpp"
 
 namespace py = pybind11;
@@ -207,7 +207,7 @@ void bind_k2_study(py::module_& m) {
                                 std::to_string(*steps));
         std::vector<std::string> names = estimators.value_or(std::vector<std::string>{});
         py::gil_scoped_release release;
-        return sim::run_k2_study(sim::registry(), runs, s, steps.value_or(0), std::move(names));
+        return sim::run_k2_study(python_registry(), runs, s, steps.value_or(0), std::move(names));
       },
       py::arg("runs"), py::arg("seed"), py::arg("steps") = py::none(), py::arg("estimators") = py::none(),
       R"doc(The K2 study of Ke & Wu Sec. 6.2 (Figs. 3-5): every estimator registered for K2 (or

@@ -19,8 +19,8 @@
 #include "nlosloc/sim/k3.hpp"
 #include "nlosloc/sim/metrics.hpp"
 #include "nlosloc/sim/montecarlo.hpp"
-#include "nlosloc/sim/registry.hpp"
 #include "nlosloc/sim/report.hpp"
+#include "nlosloc/sim/scenario.hpp"
 
 namespace py = pybind11;
 namespace sim = nlosloc::sim;
@@ -98,7 +98,7 @@ sim::MonteCarloResult result_from_dict(const py::dict& d, const sim::Scenario* s
   return r;
 }
 
-const sim::Scenario& scenario_named(const std::string& name) { return sim::registry().scenario(name); }
+const sim::Scenario& scenario_named(const std::string& name) { return python_registry().scenario(name); }
 
 sim::CaseSummary summarize(const sim::Scenario& s, const py::dict& result,
                            const std::optional<std::vector<double>>& levels) {

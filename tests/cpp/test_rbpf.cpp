@@ -1223,6 +1223,7 @@ TEST_CASE("joint PF: closed-form Normal/Rayleigh likelihood equals the generic o
   CHECK(mismatches == 0);
 }
 
+#ifndef NLOSLOC_NATIVE_TESTS  // the merge references: in nlosloc_tests only (tests/CMakeLists.txt)
 namespace {
 /// A child of the brute-force merge: situation key, log weight, the point whose distance eq. (29) measures
 /// (classical: the updated mean; reordered: the parent's predicted mean F x_p; replaced by the updated
@@ -1523,3 +1524,4 @@ TEST_CASE("reordered RBPF on an H2-like track: every step's merge at eq. 31's d_
     CHECK(telling > 0);
   }
 }
+#endif  // NLOSLOC_NATIVE_TESTS
