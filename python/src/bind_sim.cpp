@@ -29,6 +29,7 @@ namespace sim = nlosloc::sim;
 namespace {
 
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using nlosloc::bind::steps_arg;
 using nlosloc::bind::UInt64Arg;
 
 /// Copies a numpy array (any shape, flattened) into a vector.
@@ -74,15 +75,6 @@ py::dict scenario_info(const std::string& name) {
   info["paper_source"] = s.paper_source();
   info["paper"] = paper;
   return info;
-}
-
-/// The `steps` argument: None is the scenario's default (0 inside C++); a number must be >= 1, since 0 given
-/// explicitly is a mistake rather than a request for the default.
-int steps_arg(std::optional<int> steps) {
-  if (steps && *steps < 1)
-    throw std::invalid_argument("steps: expected >= 1 (None: the scenario's default), got " +
-                                std::to_string(*steps));
-  return steps.value_or(0);
 }
 
 py::dict draw_dict(const sim::Scenario& s, const std::string& case_name, const UInt64Arg& seed,

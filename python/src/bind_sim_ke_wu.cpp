@@ -202,12 +202,10 @@ void bind_k2_study(py::module_& m) {
       [](int runs, const nlosloc::bind::UInt64Arg& seed, std::optional<int> steps,
          std::optional<std::vector<std::string>> estimators) {
         const std::uint64_t s = seed.get("seed");
-        if (steps && *steps < 1)
-          throw py::value_error("steps: expected >= 1 (None: the scenario's default), got " +
-                                std::to_string(*steps));
+        const int t = nlosloc::bind::steps_arg(steps);
         std::vector<std::string> names = estimators.value_or(std::vector<std::string>{});
         py::gil_scoped_release release;
-        return sim::run_k2_study(python_registry(), runs, s, steps.value_or(0), std::move(names));
+        return sim::run_k2_study(python_registry(), runs, s, t, std::move(names));
       },
       py::arg("runs"), py::arg("seed"), py::arg("steps") = py::none(), py::arg("estimators") = py::none(),
       R"doc(The K2 study of Ke & Wu Sec. 6.2 (Figs. 3-5): every estimator registered for K2 (or

@@ -3,10 +3,11 @@
 /// Unsigned 64-bit arguments (seeds, run indices, counts). pybind11's own std::uint64_t caster refuses a
 /// negative int with "incompatible function arguments" (TypeError), which names neither the argument nor the
 /// range. UInt64Arg accepts any object with __index__ (int, numpy integers) and keeps out-of-range values,
-/// so the function can raise ValueError naming the argument: get("seed").
+/// so the function can raise ValueError naming the argument: get("seed"). Also the shared `steps` check.
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -27,6 +28,15 @@ struct UInt64Arg {
     return value;
   }
 };
+
+/// The `steps` argument of the sim functions: None is the scenario's default (0 inside C++); a number must
+/// be >= 1, since 0 given explicitly is a mistake rather than a request for the default.
+inline int steps_arg(std::optional<int> steps) {
+  if (steps && *steps < 1)
+    throw std::invalid_argument("steps: expected >= 1 (None: the scenario's default), got " +
+                                std::to_string(*steps));
+  return steps.value_or(0);
+}
 
 }  // namespace nlosloc::bind
 
