@@ -29,12 +29,12 @@ def run(
     case: str,
     runs: int = 100,
     seed: int = 1,
-    estimators: Sequence[str] | None = None,
+    estimators: Sequence[str | tuple[str, Callable[[Any, int], Any]]] | None = None,
     threads: int = 0,
     steps: int | None = None,
     progress: bool | Callable[[int, int], object] = True,
 ) -> dict[str, Any]:
-    """Run registered estimators of a scenario on identical Monte Carlo draws.
+    """Run a scenario's estimators, registered or written in Python, on identical draws.
 
     Parameters
     ----------
@@ -46,8 +46,11 @@ def run(
         Number of runs.
     seed : int, default 1
         Seed; run r draws from ``Rng(seed, r)``.
-    estimators : sequence of str, optional
-        Estimator names; default all registered for the scenario.
+    estimators : sequence, optional
+        Registered estimator names and ``(name, factory)`` pairs of estimators written in Python
+        (an object with ``reset(draw, rng)``, ``step(k, y, o) -> position`` and optionally
+        ``sight_estimate()``; see :func:`nlosloc.sim.run_monte_carlo`); default all registered for
+        the scenario.
     threads : int, default 0
         Worker threads (0 = every core). The result does not depend on it.
     steps : int, optional

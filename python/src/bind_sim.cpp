@@ -22,6 +22,7 @@
 #include "nlosloc/sim/registry.hpp"
 #include "nlosloc/sim/report.hpp"
 #include "params_field.hpp"
+#include "py_estimator.hpp"
 
 namespace py = pybind11;
 namespace sim = nlosloc::sim;
@@ -79,21 +80,7 @@ py::dict scenario_info(const std::string& name) {
 
 py::dict draw_dict(const sim::Scenario& s, const std::string& case_name, const UInt64Arg& seed,
                    const UInt64Arg& run, std::optional<int> steps) {
-  sim::Draw d = s.draw(case_name, seed.get("seed"), run.get("run"), steps_arg(steps));
-  py::dict r;
-  r["scenario"] = d.scenario;
-  r["case"] = d.case_name;
-  r["seed"] = d.seed;
-  r["run"] = d.run;
-  r["dt"] = d.dt;
-  r["states"] = py::cast(std::move(d.states));
-  r["positions"] = py::cast(std::move(d.positions));
-  r["y"] = py::cast(std::move(d.y));
-  r["sight"] = py::cast(std::move(d.sight));
-  r["quality"] = py::cast(std::move(d.quality));
-  r["initial_mean"] = py::cast(std::move(d.initial_mean));
-  r["initial_cov"] = py::cast(std::move(d.initial_cov));
-  return r;
+  return nlosloc::bind::draw_to_dict(s.draw(case_name, seed.get("seed"), run.get("run"), steps_arg(steps)));
 }
 
 py::dict draw(const std::string& name, const std::string& case_name, const UInt64Arg& seed,
@@ -101,11 +88,12 @@ py::dict draw(const std::string& name, const std::string& case_name, const UInt6
   return draw_dict(sim::registry().scenario(name), case_name, seed, run, steps);
 }
 
-/// Runs the estimators `estimators` (default all) registered in the built-in registry under the scenario's
-/// name on `s`, which may be a scenario built with custom parameters (the factories take any H1 / H2).
-py::dict run_monte_carlo(const sim::Scenario& s, const std::string& case_name, int runs,
-                         const UInt64Arg& seed, std::optional<std::vector<std::string>> estimators,
-                         int threads, std::optional<int> steps, const py::object& progress) {
+/// Runs `estimators` on `s`, which may be a scenario built with custom parameters: registered names (default
+/// all registered under the scenario's name; their factories take any H1 / H2) and Python estimators
+/// (py_estimator.hpp).
+py::dict run_monte_carlo(const std::shared_ptr<sim::Scenario>& s, const std::string& case_name, int runs,
+                         const UInt64Arg& seed, const std::optional<py::sequence>& estimators, int threads,
+                         std::optional<int> steps, const py::object& progress) {
   const bool has_progress = !progress.is_none();
   if (has_progress && !PyCallable_Check(progress.ptr()))
     throw py::type_error("progress: expected a callable progress(done, total) or None");
@@ -125,16 +113,14 @@ py::dict run_monte_carlo(const sim::Scenario& s, const std::string& case_name, i
     py::gil_scoped_acquire gil;
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C cancels the run
   };
-  const sim::Registry& reg = sim::registry();
-  s.case_index(case_name);  // validate before starting threads
-  const std::vector<std::string> names =
-      estimators && !estimators->empty() ? *estimators : reg.estimators(s.name());
-  std::vector<sim::EstimatorSpec> specs;
-  for (const auto& n : names) specs.push_back({n, reg.estimator(s.name(), n)});
+  s->case_index(case_name);  // validate before starting threads
+  // Released with the GIL held: they may hold Python estimators' factories.
+  const std::vector<sim::EstimatorSpec> specs =
+      nlosloc::bind::estimator_specs(sim::registry(), s, estimators);
   sim::MonteCarloResult res;
   {
     py::gil_scoped_release release;
-    res = sim::run_monte_carlo(s, case_name, specs, opt);
+    res = sim::run_monte_carlo(*s, case_name, specs, opt);
   }
   py::dict ests;
   for (sim::EstimatorRuns& e : res.estimators) {
@@ -363,14 +349,14 @@ dict
   m.def(
       "run_monte_carlo",
       [](const std::string& name, const std::string& case_name, int runs, const UInt64Arg& seed,
-         std::optional<std::vector<std::string>> estimators, int threads, std::optional<int> steps,
+         const std::optional<py::sequence>& estimators, int threads, std::optional<int> steps,
          const py::object& progress) {
-        return run_monte_carlo(sim::registry().scenario(name), case_name, runs, seed, std::move(estimators),
-                               threads, steps, progress);
+        return run_monte_carlo(std::const_pointer_cast<sim::Scenario>(sim::registry().scenario_ptr(name)),
+                               case_name, runs, seed, estimators, threads, steps, progress);
       },
       py::arg("name"), py::arg("case"), py::arg("runs"), py::arg("seed"), py::arg("estimators") = py::none(),
       py::arg("threads") = 0, py::arg("steps") = py::none(), py::arg("progress") = py::none(),
-      R"doc(Monte Carlo run of registered estimators on identical draws.
+      R"doc(Monte Carlo run of estimators, registered or written in Python, on identical draws.
 
 Every run's draw is generated once and fed to every estimator; the result does not depend on
 ``threads``. The GIL is released while the workers run; Ctrl-C cancels.
@@ -385,8 +371,16 @@ runs : int
     Number of runs (>= 1).
 seed : int
     Seed; run r draws from ``Rng(seed, r)``.
-estimators : list of str, optional
-    Estimator names; default all registered for the scenario.
+estimators : list, optional
+    Default: every estimator registered for the scenario. Each entry is a registered name (str) or
+    a pair ``(name, factory)`` of an estimator written in Python: ``factory(scenario, case_index)``
+    (called once per worker thread) returns an object with ``reset(draw, rng)`` (at the start of
+    each run: the draw as :func:`draw` returns it, and the estimator's own ``core.Rng``,
+    ``Rng(estimator_seed(seed, name), run)``) and ``step(k, y, o)`` (step k's measurements and
+    quality statistics, NaN = missing; returns the D position coordinates), and optionally
+    ``sight_estimate()`` (after each step: B integer conditions, 0 = LOS; then its result has
+    ``sight_accuracy``). Python estimators hold the GIL while they run, so they run one at a
+    time beside the C++ ones; their ``time_per_step_ns`` includes the call overhead.
 threads : int, default 0
     Worker threads; 0 uses every core.
 steps : int, optional
@@ -405,7 +399,12 @@ dict
 Raises
 ------
 ValueError
-    On an unknown scenario, case or estimator name, or a bad count.
+    On an unknown scenario, case or estimator name, a name given twice, a bad count, or a Python
+    estimator's step() or sight_estimate() result of the wrong size.
+TypeError
+    On an entry of ``estimators`` that is neither a name nor a (name, callable) pair, or a factory
+    result without ``reset`` and ``step``. An exception raised inside a Python estimator stops the
+    run and is raised here.
 )doc");
 
   m.def("run_monte_carlo", &run_monte_carlo, py::arg("scenario"), py::arg("case"), py::arg("runs"),
@@ -414,7 +413,8 @@ ValueError
         R"doc(Monte Carlo run on a scenario object, e.g. ``H2(params)`` with custom parameters.
 
 The same as the overload taking a name, with the estimators registered for ``scenario.name``
-(their factories build each estimator from this scenario's models, so custom parameters reach them).
+(their factories build each estimator from this scenario's models, so custom parameters reach them);
+Python estimators' factories get this object.
 
 Parameters
 ----------
@@ -430,8 +430,8 @@ dict
 
 Raises
 ------
-ValueError
-    On an unknown case or estimator name, or a bad count.
+ValueError, TypeError
+    As in the overload taking a name.
 )doc");
 
   m.def(

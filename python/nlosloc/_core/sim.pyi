@@ -1142,9 +1142,9 @@ def run_k2_study(runs: typing.SupportsInt | typing.SupportsIndex, seed: int, ste
         On a bad count, a negative seed or an unknown estimator.
     """
 @typing.overload
-def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, estimators: collections.abc.Sequence[str] | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None) -> dict:
+def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, estimators: collections.abc.Sequence | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None) -> dict:
     """
-    Monte Carlo run of registered estimators on identical draws.
+    Monte Carlo run of estimators, registered or written in Python, on identical draws.
     
     Every run's draw is generated once and fed to every estimator; the result does not depend on
     ``threads``. The GIL is released while the workers run; Ctrl-C cancels.
@@ -1159,8 +1159,16 @@ def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.Supp
         Number of runs (>= 1).
     seed : int
         Seed; run r draws from ``Rng(seed, r)``.
-    estimators : list of str, optional
-        Estimator names; default all registered for the scenario.
+    estimators : list, optional
+        Default: every estimator registered for the scenario. Each entry is a registered name (str) or
+        a pair ``(name, factory)`` of an estimator written in Python: ``factory(scenario, case_index)``
+        (called once per worker thread) returns an object with ``reset(draw, rng)`` (at the start of
+        each run: the draw as :func:`draw` returns it, and the estimator's own ``core.Rng``,
+        ``Rng(estimator_seed(seed, name), run)``) and ``step(k, y, o)`` (step k's measurements and
+        quality statistics, NaN = missing; returns the D position coordinates), and optionally
+        ``sight_estimate()`` (after each step: B integer conditions, 0 = LOS; then its result has
+        ``sight_accuracy``). Python estimators hold the GIL while they run, so they run one at a
+        time beside the C++ ones; their ``time_per_step_ns`` includes the call overhead.
     threads : int, default 0
         Worker threads; 0 uses every core.
     steps : int, optional
@@ -1179,15 +1187,21 @@ def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.Supp
     Raises
     ------
     ValueError
-        On an unknown scenario, case or estimator name, or a bad count.
+        On an unknown scenario, case or estimator name, a name given twice, a bad count, or a Python
+        estimator's step() or sight_estimate() result of the wrong size.
+    TypeError
+        On an entry of ``estimators`` that is neither a name nor a (name, callable) pair, or a factory
+        result without ``reset`` and ``step``. An exception raised inside a Python estimator stops the
+        run and is raised here.
     """
 @typing.overload
-def run_monte_carlo(scenario: Scenario, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, estimators: collections.abc.Sequence[str] | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None) -> dict:
+def run_monte_carlo(scenario: Scenario, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, estimators: collections.abc.Sequence | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None) -> dict:
     """
     Monte Carlo run on a scenario object, e.g. ``H2(params)`` with custom parameters.
     
     The same as the overload taking a name, with the estimators registered for ``scenario.name``
-    (their factories build each estimator from this scenario's models, so custom parameters reach them).
+    (their factories build each estimator from this scenario's models, so custom parameters reach them);
+    Python estimators' factories get this object.
     
     Parameters
     ----------
@@ -1203,8 +1217,8 @@ def run_monte_carlo(scenario: Scenario, case: str, runs: typing.SupportsInt | ty
     
     Raises
     ------
-    ValueError
-        On an unknown case or estimator name, or a bad count.
+    ValueError, TypeError
+        As in the overload taking a name.
     """
 def scenario_info(name: str) -> dict:
     """

@@ -1,0 +1,228 @@
+/// \file py_estimator.cpp
+/// Python estimators in the Monte Carlo runner (py_estimator.hpp). The runner calls estimators from its
+/// worker threads with the GIL released: each call into Python takes the GIL for its duration, so Python
+/// estimators run one at a time while the C++ ones beside them run in parallel. Every Python object the
+/// workers hold is released with the GIL taken.
+#include "py_estimator.hpp"
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <limits>
+#include <memory>
+#include <string>
+#include <thread>
+#include <utility>
+
+#include "nlosloc/core/random.hpp"
+
+namespace py = pybind11;
+
+namespace nlosloc::bind {
+
+namespace {
+
+/// A Python object shared by the runner's workers: copying the pointer touches no Python reference count,
+/// and the last owner drops the object with the GIL taken, on whatever thread it is.
+using SharedObject = std::shared_ptr<py::object>;
+SharedObject share(py::object o) {
+  return SharedObject(new py::object(std::move(o)), [](py::object* p) {
+    py::gil_scoped_acquire gil;
+    delete p;
+  });
+}
+
+/// A contiguous vector as a new numpy array (the estimator may keep it: it owns its copy).
+py::array_t<double> vector_array(const Eigen::Ref<const VecX>& v) {
+  py::array_t<double> a(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.data(), v.data() + v.size(), a.mutable_data());
+  return a;
+}
+
+/// "an array of shape (a, b)" or "an object of type T", for the messages.
+std::string describe(const py::handle& r) {
+  if (py::isinstance<py::array>(r)) {
+    const auto a = py::reinterpret_borrow<py::array>(r);
+    std::string s = "an array of shape (";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i > 0 ? ", " : "") + std::to_string(a.shape(i));
+    return s + (a.ndim() == 1 ? ",)" : ")");
+  }
+  return std::string("an object of type ") +
+         py::str(py::type::handle_of(r).attr("__name__")).cast<std::string>();
+}
+
+/// describe(r), and the shape numpy read it as when r is not an array (a list, None: a 0-d NaN).
+std::string describe(const py::handle& r, const py::array& as) {
+  if (!as || py::isinstance<py::array>(r)) return describe(r);
+  return describe(r) + ", read as " + describe(as);
+}
+
+/// obj.<method>, which must be callable; TypeError naming the estimator otherwise.
+py::object method(const py::object& obj, const char* m, const std::string& name, const char* signature) {
+  if (py::hasattr(obj, m)) {
+    py::object f = obj.attr(m);
+    if (PyCallable_Check(f.ptr()) != 0) return f;
+  }
+  throw py::type_error("estimators: the factory of '" + name + "' returned " + describe(obj) +
+                       ", which has no method " + signature);
+}
+
+/// sim::Estimator over a Python object with reset(draw, rng), step(k, y, o) and optionally
+/// sight_estimate(). Built and destroyed on one worker thread; every call takes the GIL.
+class PythonEstimator final : public sim::Estimator {
+ public:
+  /// With the GIL held.
+  PythonEstimator(std::string name, const py::object& obj, Eigen::Index dim, Eigen::Index anchors)
+      : name_(std::move(name)),
+        obj_(obj),
+        reset_(method(obj, "reset", name_, "reset(draw, rng)")),
+        step_(method(obj, "step", name_, "step(k, y, o)")),
+        dim_(dim),
+        anchors_(anchors) {
+    if (py::hasattr(obj, "sight_estimate"))
+      sight_ = method(obj, "sight_estimate", name_, "sight_estimate() (or no attribute of that name)");
+    // Keeps this (worker) thread's Python thread state until the destructor: without it every call's
+    // gil_scoped_acquire made and deleted one.
+    py::gil_scoped_acquire keep;
+    keep.inc_ref();
+  }
+  ~PythonEstimator() override {
+    py::gil_scoped_acquire gil;  // the members' destructors would otherwise drop them without it
+    sight_ = py::object();
+    step_ = py::object();
+    reset_ = py::object();
+    obj_ = py::object();
+    if (std::this_thread::get_id() == owner_) gil.dec_ref();  // the constructor's inc_ref (same thread state)
+  }
+  PythonEstimator(const PythonEstimator&) = delete;
+  PythonEstimator& operator=(const PythonEstimator&) = delete;
+
+  std::string name() const override { return name_; }
+
+  /// reset(draw, rng): the draw as nlosloc.sim.draw() returns it, and a copy of the estimator's generator
+  /// Rng(estimator_seed(seed, name), run), which nothing else draws from.
+  void reset(const sim::Draw& d, Rng& rng) override {
+    py::gil_scoped_acquire gil;
+    reset_(draw_to_dict(d), py::cast(rng, py::return_value_policy::copy));
+  }
+
+  void step(int k, const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o,
+            Eigen::Ref<VecX> position_out) override {
+    py::gil_scoped_acquire gil;
+    const py::object r = step_(k, vector_array(y), vector_array(o));
+    const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(r);
+    if (!a || a.ndim() != 1 || a.size() != dim_)
+      throw py::value_error("estimators: step() of '" + name_ + "' returned " + describe(r, a) +
+                            "; expected the " + std::to_string(dim_) + " coordinates of the position");
+    std::copy(a.data(), a.data() + a.size(), position_out.data());
+  }
+
+  bool estimates_sight() const override { return static_cast<bool>(sight_); }
+
+  void sight_estimate(Eigen::Ref<VecXi> out) const override {
+    py::gil_scoped_acquire gil;
+    const py::object r = sight_();
+    const auto raw = py::array::ensure(r);
+    using IntArray = py::array_t<long long, py::array::c_style | py::array::forcecast>;
+    IntArray a;
+    bool ok = false;
+    if (raw) {
+      const char kind = raw.dtype().kind();
+      if (kind == 'i' || kind == 'u' || kind == 'b') {  // no float silently truncated
+        a = IntArray::ensure(raw);
+        ok = a && a.ndim() == 1 && a.size() == anchors_;
+      }
+    }
+    if (!ok)
+      throw py::value_error("estimators: sight_estimate() of '" + name_ + "' returned " + describe(r, raw) +
+                            "; expected " + std::to_string(anchors_) +
+                            " integer conditions (0 = LOS), one per anchor");
+    for (py::ssize_t b = 0; b < a.size(); ++b) {
+      const long long v = a.data()[b];
+      if (v < 0 || v > std::numeric_limits<int>::max())
+        throw py::value_error("estimators: sight_estimate() of '" + name_ + "' returned condition " +
+                              std::to_string(v) + " for anchor " + std::to_string(b) +
+                              "; expected an integer >= 0 (0 = LOS)");
+      out[b] = static_cast<int>(v);
+    }
+  }
+
+ private:
+  std::string name_;
+  py::object obj_, reset_, step_, sight_;
+  Eigen::Index dim_, anchors_;
+  std::thread::id owner_ = std::this_thread::get_id();  // the runner makes and drops it on one worker
+};
+
+/// A registered estimator of scenario s.
+sim::EstimatorSpec registered(const sim::Registry& reg, const sim::Scenario& s, const std::string& n) {
+  return {n, reg.estimator(s.name(), n)};
+}
+
+}  // namespace
+
+py::dict draw_to_dict(sim::Draw d) {
+  py::dict r;
+  r["scenario"] = d.scenario;
+  r["case"] = d.case_name;
+  r["seed"] = d.seed;
+  r["run"] = d.run;
+  r["dt"] = d.dt;
+  r["states"] = py::cast(std::move(d.states));
+  r["positions"] = py::cast(std::move(d.positions));
+  r["y"] = py::cast(std::move(d.y));
+  r["sight"] = py::cast(std::move(d.sight));
+  r["quality"] = py::cast(std::move(d.quality));
+  r["initial_mean"] = py::cast(std::move(d.initial_mean));
+  r["initial_cov"] = py::cast(std::move(d.initial_cov));
+  return r;
+}
+
+std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
+                                                const std::shared_ptr<sim::Scenario>& scenario,
+                                                const std::optional<py::sequence>& estimators) {
+  const sim::Scenario& s = *scenario;
+  std::vector<sim::EstimatorSpec> specs;
+  if (!estimators || py::len(*estimators) == 0) {
+    for (const auto& n : reg.estimators(s.name())) specs.push_back(registered(reg, s, n));
+    return specs;
+  }
+  if (py::isinstance<py::str>(*estimators) || py::isinstance<py::bytes>(*estimators))
+    throw py::type_error(
+        "estimators: expected a list of estimator names and (name, factory) pairs, got a single string");
+  // The factories get the scenario as the caller's Python object (custom parameters included).
+  const SharedObject scen = share(py::cast(scenario));
+  const Eigen::Index dim = s.space_dim(), anchors = s.anchors().rows();
+  const py::sequence& seq = *estimators;
+  for (std::size_t i = 0; i < py::len(seq); ++i) {
+    const py::object e = seq[i];
+    if (py::isinstance<py::str>(e)) {
+      specs.push_back(registered(reg, s, e.cast<std::string>()));
+      continue;
+    }
+    const bool pair = (py::isinstance<py::tuple>(e) || py::isinstance<py::list>(e)) && py::len(e) == 2 &&
+                      py::isinstance<py::str>(e[py::int_(0)]) && PyCallable_Check(e[py::int_(1)].ptr()) != 0;
+    if (!pair)
+      throw py::type_error("estimators[" + std::to_string(i) +
+                           "]: expected a registered estimator name (str) or a (name, factory) pair with a "
+                           "callable factory(scenario, case_index), got " +
+                           py::repr(e).cast<std::string>());
+    const std::string name = e[py::int_(0)].cast<std::string>();
+    const SharedObject factory = share(e[py::int_(1)]);
+    specs.push_back(
+        {name,
+         [name, factory, scen, dim, anchors](const sim::Scenario&, int c) -> std::unique_ptr<sim::Estimator> {
+           py::gil_scoped_acquire gil;
+           const py::object obj = (*factory)(*scen, c);
+           if (obj.is_none())
+             throw py::type_error("estimators: the factory of '" + name +
+                                  "' returned None; expected an estimator object");
+           return std::make_unique<PythonEstimator>(name, obj, dim, anchors);
+         }});
+  }
+  return specs;
+}
+
+}  // namespace nlosloc::bind
