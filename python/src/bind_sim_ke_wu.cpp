@@ -6,7 +6,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,7 @@
 #include "nlosloc/sim/k3.hpp"
 #include "nlosloc/sim/scenario.hpp"
 #include "params_field.hpp"
+#include "py_estimator.hpp"
 
 namespace py = pybind11;
 namespace sim = nlosloc::sim;
@@ -197,15 +200,26 @@ void bind_k2_study(py::module_& m) {
           "nlos", [](const sim::K2Study& s) { return s.nlos; }, "(T,) 1 where the nodes are NLOS.")
       .def_readonly("estimators", &sim::K2Study::estimators, "One K2EstimatorStudy per estimator, in order.");
 
+  // Both overloads: the specs (which may hold Python estimators) are made with the GIL held and the
+  // study runs without it (a Python estimator takes it for each call).
+  const auto study = [](const std::shared_ptr<sim::K2>& scenario, int runs,
+                        const nlosloc::bind::UInt64Arg& seed, std::optional<int> steps,
+                        const std::optional<py::sequence>& estimators) {
+    const std::uint64_t s = seed.get("seed");
+    const int t = nlosloc::bind::steps_arg(steps);
+    const std::vector<sim::EstimatorSpec> specs =
+        nlosloc::bind::estimator_specs(python_registry(), scenario, estimators);
+    py::gil_scoped_release release;
+    return sim::run_k2_study(*scenario, runs, s, t, specs);
+  };
   m.def(
       "run_k2_study",
-      [](int runs, const nlosloc::bind::UInt64Arg& seed, std::optional<int> steps,
-         std::optional<std::vector<std::string>> estimators) {
-        const std::uint64_t s = seed.get("seed");
-        const int t = nlosloc::bind::steps_arg(steps);
-        std::vector<std::string> names = estimators.value_or(std::vector<std::string>{});
-        py::gil_scoped_release release;
-        return sim::run_k2_study(python_registry(), runs, s, t, std::move(names));
+      [study](int runs, const nlosloc::bind::UInt64Arg& seed, std::optional<int> steps,
+              const std::optional<py::sequence>& estimators) {
+        auto k2 = std::dynamic_pointer_cast<sim::K2>(
+            std::const_pointer_cast<sim::Scenario>(python_registry().scenario_ptr("K2")));
+        if (!k2) throw std::logic_error("run_k2_study: the registry's K2 is not a sim::K2");
+        return study(k2, runs, seed, steps, estimators);
       },
       py::arg("runs"), py::arg("seed"), py::arg("steps") = py::none(), py::arg("estimators") = py::none(),
       R"doc(The K2 study of Ke & Wu Sec. 6.2 (Figs. 3-5): every estimator registered for K2 (or
@@ -220,8 +234,9 @@ seed : int
     Seed (>= 0).
 steps : int, optional
     Steps per run (>= 1); default the scenario's.
-estimators : list of str, optional
-    Estimator names; default all registered for K2.
+estimators : list, optional
+    Registered estimator names and ``(name, factory)`` pairs of estimators written in Python, as in
+    :func:`run_monte_carlo`; default all registered for K2.
 
 Returns
 -------
@@ -230,7 +245,32 @@ K2Study
 Raises
 ------
 ValueError
-    On a bad count, a negative seed or an unknown estimator.
+    On a bad count, a negative seed, an unknown estimator or a name given twice.
+TypeError
+    On a malformed entry of ``estimators`` (see :func:`run_monte_carlo`).
+)doc");
+  m.def("run_k2_study", study, py::arg("scenario"), py::arg("runs"), py::arg("seed"),
+        py::arg("steps") = py::none(), py::arg("estimators") = py::none(),
+        R"doc(The K2 study of a K2 built with custom parameters, e.g. ``K2(p)`` with another period.
+
+The same as the overload without a scenario, on this scenario's draws; registered estimators are
+built from its models, Python estimators' factories get it.
+
+Parameters
+----------
+scenario : K2
+    The scenario.
+runs, seed, steps, estimators
+    As in the overload without a scenario.
+
+Returns
+-------
+K2Study
+
+Raises
+------
+ValueError, TypeError
+    As in the overload without a scenario.
 )doc");
 
   m.def("format_k2_study", &sim::format_k2_study, py::arg("study"),

@@ -162,3 +162,71 @@ TEST_CASE("K2 study: identification per sample, ranging and position errors", "[
   const std::string txt = format_k2_study(st);
   CHECK(txt.find("ident NLOS") != std::string::npos);
 }
+
+namespace {
+/// Returns the true position of the draw it was reset with, and its true sight.
+class TruthEstimator final : public Estimator {
+ public:
+  std::string name() const override { return "truth"; }
+  void reset(const Draw& d, Rng&) override { d_ = &d; }
+  void step(int k, const Eigen::Ref<const VecX>&, const Eigen::Ref<const VecX>&,
+            Eigen::Ref<VecX> position_out) override {
+    k_ = k;
+    position_out = d_->positions.row(k).transpose();
+  }
+  bool estimates_sight() const override { return true; }
+  void sight_estimate(Eigen::Ref<VecXi> out) const override { out = d_->sight.row(k_).transpose(); }
+
+ private:
+  const Draw* d_ = nullptr;
+  int k_ = 0;
+};
+}  // namespace
+
+TEST_CASE("K2 study of a custom K2 with estimators given as factories", "[sim][kscen]") {
+  K2Params p;
+  p.period = 50;
+  p.base.discard = 20;
+  const K2 s(p);
+  const EstimatorSpec ekf{"EKF", kreg().estimator("K2", "EKF")};
+  const EstimatorSpec truth{"truth", [](const Scenario&, int) { return std::make_unique<TruthEstimator>(); }};
+  const int runs = 3, T = 160;
+  const K2Study st = run_k2_study(s, runs, 5, T, {ekf, truth});
+  CHECK(st.period == 50);
+  CHECK(st.discard == 20);
+  REQUIRE(st.nlos.size() == T);
+  for (int k = 0; k < T; ++k) CHECK(st.nlos[k] == ((k / 50) % 2 == 0 ? 1 : 0));
+  REQUIRE(st.estimators.size() == 2);
+  // The study's mean position error is the Monte Carlo runner's errors averaged over the same draws.
+  MonteCarloOptions o;
+  o.runs = runs;
+  o.seed = 5;
+  o.steps = T;
+  o.threads = 1;
+  const MonteCarloResult mc = run_monte_carlo(s, "alternating", {ekf}, o);
+  const VecX mean = mc.estimator("EKF").errors.colwise().mean().transpose();
+  CHECK((st.estimators[0].position_error - mean).cwiseAbs().maxCoeff() < 1e-9);
+  CHECK(mean.minCoeff() > 0.0);
+  // The truth: no position or ranging error, every node identified.
+  CHECK(st.estimators[1].name == "truth");
+  CHECK(st.estimators[1].position_error.cwiseAbs().maxCoeff() == 0.0);
+  CHECK(st.estimators[1].range_error.cwiseAbs().maxCoeff() < 1e-9);
+  REQUIRE(st.estimators[1].identification.size() == T);
+  CHECK(st.estimators[1].identification.minCoeff() == 1.0);
+
+  const auto message = [&](const std::vector<EstimatorSpec>& e, int runs_, int steps) {
+    try {
+      run_k2_study(s, runs_, 5, steps, e);
+    } catch (const std::invalid_argument& ex) {
+      return std::string(ex.what());
+    }
+    return std::string("no exception");
+  };
+  CHECK(message({}, 1, T) == "estimators: expected at least one estimator");
+  CHECK(message({ekf, ekf}, 1, T) == "estimators: 'EKF' appears more than once");
+  CHECK(message({{"null", [](const Scenario&, int) { return std::unique_ptr<Estimator>(); }}}, 1, T) ==
+        "estimators: factory of 'null' returned null");
+  CHECK(message({{"none", EstimatorFactory()}}, 1, T) == "estimators: 'none' has no factory");
+  CHECK(message({ekf}, 0, T) == "runs: expected >= 1, got 0");
+  CHECK(message({ekf}, 1, -1) == "steps: expected >= 0 (0 = the scenario's default), got -1");
+}

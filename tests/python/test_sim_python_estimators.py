@@ -249,3 +249,32 @@ def test_a_python_estimator_that_misbehaves_stops_the_run_with_a_clear_error() -
 
     with pytest.raises(RuntimeError, match="no estimator for you"):
         run(factory_raises, threads=2)
+
+
+def test_k2_study_of_a_custom_k2_with_python_estimators() -> None:
+    params = sim.K2Params()
+    params.period = 50
+    base = params.base
+    base.discard = 20
+    params.base = base
+    scenario = sim.K2(params)
+    runs, seed, steps = 3, 5, 160
+    named = [("py-EKF", PythonEkf), ("sight", lambda s, c: SightOracle())]
+    st = sim.run_k2_study(scenario, runs, seed, steps, ["EKF", *named])
+    assert (st.period, st.discard, st.steps) == (50, 20, steps)
+    np.testing.assert_array_equal(st.nlos, (np.arange(steps) // 50 + 1) % 2)
+    ekf, py_ekf, sight = st.estimators
+    assert (ekf.name, py_ekf.name, sight.name) == ("EKF", "py-EKF", "sight")
+    np.testing.assert_allclose(py_ekf.position_error, ekf.position_error, rtol=0, atol=1e-9)
+    mc = sim.run_monte_carlo(scenario, "alternating", runs, seed, ["EKF"], steps=steps)
+    mean = mc["estimators"]["EKF"]["errors"].mean(axis=0)
+    np.testing.assert_allclose(ekf.position_error, mean, rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(sight.position_error, np.zeros(steps))
+    np.testing.assert_array_equal(sight.identification, np.ones(steps))
+    assert ekf.identification is None  # the EKF does not classify sight
+    # the registered K2 (period 200) through the overload without a scenario
+    assert sim.run_k2_study(1, seed, 250, [("sight", lambda s, c: SightOracle())]).period == 200
+    with pytest.raises(TypeError, match=r"estimators\[0\]: expected a registered estimator name"):
+        sim.run_k2_study(scenario, 1, 1, 30, [("x", None)])
+    with pytest.raises(ValueError, match="estimators: 'EKF' appears more than once"):
+        sim.run_k2_study(1, 1, 30, ["EKF", ("EKF", PythonEkf)])

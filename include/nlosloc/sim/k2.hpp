@@ -169,29 +169,32 @@ struct K2Study {
   std::vector<K2EstimatorStudy> estimators;
 };
 
-/// Runs every estimator registered for K2 (or `names`) on `runs` draws Rng(seed, r) (single thread; the
-/// same draws as the Monte Carlo runner) and averages position error, ranging error and identification.
-inline K2Study run_k2_study(const Registry& reg, int runs, std::uint64_t seed, int steps = 0,
-                            std::vector<std::string> names = {}) {
+/// Runs `estimators` (each made once, with s and case 0) on `runs` draws Rng(seed, r) of scenario s, which
+/// may carry custom parameters (single thread; the same draws as the Monte Carlo runner), and averages
+/// position error, ranging error and identification. `steps` 0 = s.steps(). Throws std::invalid_argument
+/// on a bad count, no estimator, a name given twice or a factory that returns null.
+inline K2Study run_k2_study(const K2& s, int runs, std::uint64_t seed, int steps,
+                            const std::vector<EstimatorSpec>& estimators) {
   NLOSLOC_ENSURE(runs >= 1, "runs: expected >= 1, got " + std::to_string(runs));
-  const auto* s = dynamic_cast<const K2*>(&reg.scenario("K2"));
-  NLOSLOC_ENSURE(s != nullptr, "run_k2_study: the registry's K2 is not a sim::K2");
-  if (names.empty()) names = reg.estimators("K2");
-  const int T = steps > 0 ? steps : s->steps();
-  const MatX A = s->anchors();
+  NLOSLOC_ENSURE(steps >= 0,
+                 "steps: expected >= 0 (0 = the scenario's default), got " + std::to_string(steps));
+  check_estimator_specs(estimators);  // results are listed by name, as run_monte_carlo's
+  const int T = steps > 0 ? steps : s.steps();
+  const MatX A = s.anchors();
   const auto B = A.rows();
   K2Study st;
   st.runs = runs;
   st.steps = T;
-  st.period = s->params().period;
-  st.discard = s->discard();
+  st.period = s.params().period;
+  st.discard = s.discard();
   st.nlos.resize(T);
-  for (int k = 0; k < T; ++k) st.nlos[k] = s->nlos_at(k) ? 1 : 0;
+  for (int k = 0; k < T; ++k) st.nlos[k] = s.nlos_at(k) ? 1 : 0;
   std::vector<std::unique_ptr<Estimator>> est;
-  for (const auto& n : names) {
-    est.push_back(reg.estimator("K2", n)(*s, 0));
+  for (const auto& spec : estimators) {
+    est.push_back(spec.make(s, 0));
+    NLOSLOC_ENSURE(est.back() != nullptr, "estimators: factory of '" + spec.name + "' returned null");
     K2EstimatorStudy e;
-    e.name = n;
+    e.name = spec.name;
     e.position_error.setZero(T);
     e.range_error.setZero(T, B);
     if (est.back()->estimates_sight()) e.identification.setZero(T);
@@ -200,9 +203,9 @@ inline K2Study run_k2_study(const Registry& reg, int runs, std::uint64_t seed, i
   VecX pos(2), o(B);
   VecXi sight(B);
   for (int r = 0; r < runs; ++r) {
-    const Draw d = s->draw("alternating", seed, static_cast<std::uint64_t>(r), T);
+    const Draw d = s.draw("alternating", seed, static_cast<std::uint64_t>(r), T);
     for (std::size_t e = 0; e < est.size(); ++e) {
-      Rng rng(estimator_seed(seed, names[e]), static_cast<std::uint64_t>(r));
+      Rng rng(estimator_seed(seed, estimators[e].name), static_cast<std::uint64_t>(r));
       est[e]->reset(d, rng);
       auto& out = st.estimators[e];
       for (int k = 0; k < T; ++k) {
@@ -225,6 +228,17 @@ inline K2Study run_k2_study(const Registry& reg, int runs, std::uint64_t seed, i
     }
   }
   return st;
+}
+
+/// The study of the registry's K2 with the estimators registered for it (all, or `names`).
+inline K2Study run_k2_study(const Registry& reg, int runs, std::uint64_t seed, int steps = 0,
+                            std::vector<std::string> names = {}) {
+  const auto* s = dynamic_cast<const K2*>(&reg.scenario("K2"));
+  NLOSLOC_ENSURE(s != nullptr, "run_k2_study: the registry's K2 is not a sim::K2");
+  if (names.empty()) names = reg.estimators("K2");
+  std::vector<EstimatorSpec> specs;
+  for (const auto& n : names) specs.push_back({n, reg.estimator("K2", n)});
+  return run_k2_study(*s, runs, seed, steps, specs);
 }
 
 /// Text summary of the K2 study: per estimator, mean position and ranging errors in NLOS and LOS blocks,

@@ -88,6 +88,18 @@ inline std::uint64_t estimator_seed(std::uint64_t seed, const std::string& name)
   return seed ^ h;
 }
 
+/// Checks a list of estimators for a run: at least one, each with a factory, no name twice (results are
+/// keyed by name: a repeat would overwrite the first). std::invalid_argument naming the estimator.
+inline void check_estimator_specs(const std::vector<EstimatorSpec>& estimators) {
+  NLOSLOC_ENSURE(!estimators.empty(), "estimators: expected at least one estimator");
+  for (std::size_t i = 0; i < estimators.size(); ++i) {
+    NLOSLOC_ENSURE(bool(estimators[i].make), "estimators: '" + estimators[i].name + "' has no factory");
+    for (std::size_t j = 0; j < i; ++j)
+      NLOSLOC_ENSURE(estimators[j].name != estimators[i].name,
+                     "estimators: '" + estimators[i].name + "' appears more than once");
+  }
+}
+
 /// Runs `estimators` on `opt.runs` draws of case `case_name` of `scenario`. Every draw is generated once
 /// per run and fed to every estimator (each estimator made once per worker, reset per run); each estimator
 /// gets Rng(estimator_seed(seed, name), run). Exceptions from a factory, an estimator or a callback stop the
@@ -101,13 +113,7 @@ inline MonteCarloResult run_monte_carlo(const Scenario& scenario, const std::str
   NLOSLOC_ENSURE(opt.steps >= 0,
                  "steps: expected >= 0 (0 = the scenario's default), got " + std::to_string(opt.steps));
   NLOSLOC_ENSURE(opt.poll_interval_ms > 0, "poll_interval_ms: expected > 0");
-  NLOSLOC_ENSURE(!estimators.empty(), "estimators: expected at least one estimator");
-  for (std::size_t i = 0; i < estimators.size(); ++i) {
-    NLOSLOC_ENSURE(bool(estimators[i].make), "estimators: '" + estimators[i].name + "' has no factory");
-    for (std::size_t j = 0; j < i; ++j)  // results are keyed by name: a repeat would overwrite the first
-      NLOSLOC_ENSURE(estimators[j].name != estimators[i].name,
-                     "estimators: '" + estimators[i].name + "' appears more than once");
-  }
+  check_estimator_specs(estimators);
   const int steps = opt.steps > 0 ? opt.steps : scenario.steps();
   NLOSLOC_ENSURE(steps > scenario.discard(), "steps: expected more than the scenario's " +
                                                  std::to_string(scenario.discard()) +

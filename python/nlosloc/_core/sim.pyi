@@ -1115,7 +1115,8 @@ def rmse_over_time(errors: typing.Annotated[numpy.typing.ArrayLike, numpy.float6
     numpy.ndarray
         T values ``sqrt(mean over runs of errors**2)``.
     """
-def run_k2_study(runs: typing.SupportsInt | typing.SupportsIndex, seed: int, steps: typing.SupportsInt | typing.SupportsIndex | None = None, estimators: collections.abc.Sequence[str] | None = None) -> K2Study:
+@typing.overload
+def run_k2_study(runs: typing.SupportsInt | typing.SupportsIndex, seed: int, steps: typing.SupportsInt | typing.SupportsIndex | None = None, estimators: collections.abc.Sequence | None = None) -> K2Study:
     """
     The K2 study of Ke & Wu Sec. 6.2 (Figs. 3-5): every estimator registered for K2 (or
     ``estimators``) on ``runs`` draws ``Rng(seed, r)`` of the registered K2, one thread, the same draws
@@ -1129,8 +1130,9 @@ def run_k2_study(runs: typing.SupportsInt | typing.SupportsIndex, seed: int, ste
         Seed (>= 0).
     steps : int, optional
         Steps per run (>= 1); default the scenario's.
-    estimators : list of str, optional
-        Estimator names; default all registered for K2.
+    estimators : list, optional
+        Registered estimator names and ``(name, factory)`` pairs of estimators written in Python, as in
+        :func:`run_monte_carlo`; default all registered for K2.
     
     Returns
     -------
@@ -1139,7 +1141,33 @@ def run_k2_study(runs: typing.SupportsInt | typing.SupportsIndex, seed: int, ste
     Raises
     ------
     ValueError
-        On a bad count, a negative seed or an unknown estimator.
+        On a bad count, a negative seed, an unknown estimator or a name given twice.
+    TypeError
+        On a malformed entry of ``estimators`` (see :func:`run_monte_carlo`).
+    """
+@typing.overload
+def run_k2_study(scenario: K2, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, steps: typing.SupportsInt | typing.SupportsIndex | None = None, estimators: collections.abc.Sequence | None = None) -> K2Study:
+    """
+    The K2 study of a K2 built with custom parameters, e.g. ``K2(p)`` with another period.
+    
+    The same as the overload without a scenario, on this scenario's draws; registered estimators are
+    built from its models, Python estimators' factories get it.
+    
+    Parameters
+    ----------
+    scenario : K2
+        The scenario.
+    runs, seed, steps, estimators
+        As in the overload without a scenario.
+    
+    Returns
+    -------
+    K2Study
+    
+    Raises
+    ------
+    ValueError, TypeError
+        As in the overload without a scenario.
     """
 @typing.overload
 def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, estimators: collections.abc.Sequence | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None) -> dict:
