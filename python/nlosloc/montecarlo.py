@@ -1,7 +1,8 @@
 """Monte Carlo helpers around :func:`nlosloc.sim.run_monte_carlo`.
 
-``run`` adds a progress bar (tqdm when installed, else a plain stderr line); ``percentiles``,
-``ecdf`` and ``rmse`` compute the paper statistics of its result with numpy.
+``run`` adds a progress bar (tqdm when installed, else a plain stderr line) and runs the runs on an
+executor (processes, or machines through dask.distributed) in chunks that ``merge`` joins;
+``percentiles``, ``ecdf`` and ``rmse`` compute the paper statistics of its result with numpy.
 
 Examples
 --------
@@ -14,6 +15,7 @@ array([312.1, 380.4])
 from __future__ import annotations
 
 import sys
+import time
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -21,11 +23,11 @@ import numpy as np
 
 from nlosloc._core import sim as _sim
 
-__all__ = ["ecdf", "percentiles", "pooled_errors", "rmse", "run"]
+__all__ = ["ecdf", "merge", "percentiles", "pooled_errors", "rmse", "run"]
 
 
 def run(
-    name: str,
+    name: str | _sim.Scenario,
     case: str,
     runs: int = 100,
     seed: int = 1,
@@ -33,13 +35,17 @@ def run(
     threads: int = 0,
     steps: int | None = None,
     progress: bool | Callable[[int, int], object] = True,
+    first_run: int = 0,
+    executor: Any = None,
+    chunk_runs: int | None = None,
 ) -> dict[str, Any]:
     """Run a scenario's estimators, registered or written in Python, on identical draws.
 
     Parameters
     ----------
-    name : str
-        Scenario name (see ``nlosloc.sim.scenarios()``).
+    name : str or nlosloc.sim.Scenario
+        Scenario name (see ``nlosloc.sim.scenarios()``), or a scenario object such as
+        ``sim.H2(params)`` (not with ``executor``: scenario objects do not pickle).
     case : str
         Case name (see ``nlosloc.sim.scenario_info(name)["cases"]``).
     runs : int, default 100
@@ -52,30 +58,221 @@ def run(
         ``sight_estimate()``; see :func:`nlosloc.sim.run_monte_carlo`); default all registered for
         the scenario.
     threads : int, default 0
-        Worker threads (0 = every core). The result does not depend on it.
+        Worker threads (0 = every core) of each run_monte_carlo call. The result does not depend
+        on it. With ``executor``, set it to the cores each of its workers may use.
     steps : int, optional
         Steps per run; default the scenario's.
     progress : bool or callable, default True
         True shows a progress bar (tqdm if installed), False shows nothing, a callable is called as
         ``progress(done, total)``.
+    first_run : int, default 0
+        Index of the first run: runs ``first_run`` .. ``first_run + runs - 1``, each the same as in
+        a run from 0 (so separate calls cover one long run; :func:`merge` joins them).
+    executor : concurrent.futures.Executor or dask.distributed.Client, optional
+        Runs the runs in chunks of ``chunk_runs`` through ``executor.submit`` (other processes or
+        machines) and joins the chunks with :func:`merge`: the result equals the one of a single
+        call. The arguments travel by pickle, so give a scenario name, and factories of Python
+        estimators that pickle (module-level classes; dask also pickles lambdas).
+    chunk_runs : int, optional
+        Runs per chunk with ``executor``; default ``ceil(runs / 16)``.
 
     Returns
     -------
     dict
         As :func:`nlosloc.sim.run_monte_carlo`: ``estimators`` maps each name to ``errors``
         (runs x T, m) and ``time_per_step_ns`` (runs); plus ``discard``, ``dt``, ``runs``,
-        ``steps``, ``seed``, ``threads``, ``wall_seconds``, ``scenario``, ``case``.
+        ``first_run``, ``steps``, ``seed``, ``threads``, ``wall_seconds``, ``scenario``, ``case``.
+        With ``executor``, ``wall_seconds`` is the whole call's and ``threads`` the largest of the
+        chunks'.
     """
     est = list(estimators) if estimators is not None else None
+    if executor is not None:
+        return _run_chunks(
+            name, case, runs, seed, est, threads, steps, progress, first_run, executor, chunk_runs
+        )
+    if chunk_runs is not None:
+        raise ValueError("chunk_runs: only with an executor")
+
+    def call(callback: Callable[[int, int], object] | None) -> dict[str, Any]:
+        return _sim.run_monte_carlo(
+            name, case, runs, seed, est, threads, steps, callback, first_run=first_run
+        )
+
     if callable(progress):
-        return _sim.run_monte_carlo(name, case, runs, seed, est, threads, steps, progress)
+        return call(progress)
     if not progress:
-        return _sim.run_monte_carlo(name, case, runs, seed, est, threads, steps, None)
-    bar = _Bar(total=runs, desc=f"{name} {case}")
+        return call(None)
+    bar = _Bar(total=runs, desc=f"{_label(name)} {case}")
     try:
-        return _sim.run_monte_carlo(name, case, runs, seed, est, threads, steps, bar.update)
+        return call(bar.update)
     finally:
         bar.close()
+
+
+def _label(name: str | _sim.Scenario) -> str:
+    return name if isinstance(name, str) else name.name
+
+
+def _run_chunk(
+    name: str,
+    case: str,
+    runs: int,
+    seed: int,
+    estimators: list[Any] | None,
+    threads: int,
+    steps: int | None,
+    first_run: int,
+) -> dict[str, Any]:
+    """One chunk of an executor's run (module level, so it pickles)."""
+    return _sim.run_monte_carlo(
+        name, case, runs, seed, estimators, threads, steps, None, first_run=first_run
+    )
+
+
+def _run_chunks(
+    name: str | _sim.Scenario,
+    case: str,
+    runs: int,
+    seed: int,
+    estimators: list[Any] | None,
+    threads: int,
+    steps: int | None,
+    progress: bool | Callable[[int, int], object],
+    first_run: int,
+    executor: Any,
+    chunk_runs: int | None,
+) -> dict[str, Any]:
+    if not isinstance(name, str):
+        raise TypeError(
+            "name: with an executor, expected a scenario name (scenario objects do not pickle), "
+            f"got {type(name).__name__}"
+        )
+    if not callable(getattr(executor, "submit", None)):
+        raise TypeError(
+            "executor: expected an object with submit(fn, *args) returning futures, such as a "
+            "concurrent.futures.Executor or a dask.distributed.Client, "
+            f"got {type(executor).__name__}"
+        )
+    if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
+        raise ValueError(f"runs: expected an int >= 1, got {runs!r}")
+    if isinstance(first_run, bool) or not isinstance(first_run, int) or first_run < 0:
+        raise ValueError(f"first_run: expected an int >= 0, got {first_run!r}")
+    if chunk_runs is None:
+        chunk_runs = -(-runs // 16)
+    elif isinstance(chunk_runs, bool) or not isinstance(chunk_runs, int) or chunk_runs < 1:
+        raise ValueError(f"chunk_runs: expected an int >= 1, got {chunk_runs!r}")
+    # Checked here, where the error is clear, rather than in every chunk.
+    info = _sim.scenario_info(name)
+    if case not in info["cases"]:
+        raise ValueError(
+            f"case: unknown case '{case}' of scenario {name}; expected one of: "
+            + ", ".join(info["cases"])
+        )
+    for e in estimators or []:
+        if isinstance(e, str) and e not in info["estimators"]:
+            raise ValueError(
+                f"estimators: unknown estimator '{e}' for scenario {name}; expected one of: "
+                + ", ".join(info["estimators"])
+            )
+    t0 = time.perf_counter()
+    starts = range(first_run, first_run + runs, chunk_runs)
+    sizes = [min(chunk_runs, first_run + runs - start) for start in starts]
+    futures = [
+        executor.submit(_run_chunk, name, case, n, seed, estimators, threads, steps, start)
+        for start, n in zip(starts, sizes)
+    ]
+    report = progress if callable(progress) else None
+    bar = _Bar(total=runs, desc=f"{name} {case}") if progress and report is None else None
+    try:
+        pending = set(range(len(futures)))
+        done = 0
+        while pending:
+            finished = sorted(i for i in pending if futures[i].done())
+            if not finished:
+                time.sleep(0.05)
+                continue
+            for i in finished:
+                futures[i].result()  # raises the chunk's exception here
+                done += sizes[i]
+                pending.discard(i)
+            if report is not None:
+                report(done, runs)
+            if bar is not None:
+                bar.update(done, runs)
+        results = [f.result() for f in futures]
+    except BaseException:
+        for f in futures:
+            f.cancel()
+        raise
+    finally:
+        if bar is not None:
+            bar.close()
+    merged = merge(results)
+    merged["wall_seconds"] = time.perf_counter() - t0
+    return merged
+
+
+def merge(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """Join results of consecutive runs of one Monte Carlo run (``first_run`` chunks).
+
+    Parameters
+    ----------
+    results : sequence of dict
+        Outputs of :func:`run` or :func:`nlosloc.sim.run_monte_carlo` for the same scenario,
+        case, seed, steps and estimators (in the same order), whose runs follow each other
+        (``first_run`` of each = ``first_run + runs`` of the previous one, in any order given).
+
+    Returns
+    -------
+    dict
+        The result of one call over all their runs: the arrays stacked by run, ``runs`` summed,
+        ``first_run`` the smallest, ``threads`` the largest, ``wall_seconds`` summed.
+
+    Raises
+    ------
+    ValueError
+        If the list is empty, the results differ in anything but their runs, or their runs
+        leave a gap or overlap.
+    """
+    if len(results) == 0:
+        raise ValueError("results: expected at least one result")
+    ordered = sorted(results, key=lambda r: int(r.get("first_run", 0)))
+    first = ordered[0]
+    keys = ("scenario", "case", "seed", "steps", "discard", "dt")
+    names = list(first["estimators"])
+    end = int(first.get("first_run", 0))
+    for r in ordered:
+        for k in keys:
+            if r[k] != first[k]:
+                raise ValueError(f"results: {k} differs between chunks ({first[k]!r} and {r[k]!r})")
+        if list(r["estimators"]) != names:
+            raise ValueError(
+                f"results: estimators differ between chunks ({names} and {list(r['estimators'])})"
+            )
+        start = int(r.get("first_run", 0))
+        if start != end:
+            raise ValueError(
+                f"results: runs from {start} follow runs ending at {end - 1}; expected the runs "
+                "to follow each other without a gap or an overlap"
+            )
+        end = start + int(r["runs"])
+    out = {k: first[k] for k in keys}
+    out["runs"] = end - int(first.get("first_run", 0))
+    out["first_run"] = int(first.get("first_run", 0))
+    out["threads"] = max(int(r["threads"]) for r in ordered)
+    out["wall_seconds"] = float(sum(r["wall_seconds"] for r in ordered))
+    estimators = {}
+    for n in names:
+        parts = [r["estimators"][n] for r in ordered]
+        fields = set(parts[0])
+        if any(set(p) != fields for p in parts):
+            raise ValueError(f"results: estimator '{n}' has different fields in different chunks")
+        estimators[n] = {
+            f: (np.concatenate if f == "time_per_step_ns" else np.vstack)([p[f] for p in parts])
+            for f in parts[0]
+        }
+    out["estimators"] = estimators
+    return out
 
 
 class _Bar:

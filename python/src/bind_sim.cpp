@@ -93,13 +93,14 @@ py::dict draw(const std::string& name, const std::string& case_name, const UInt6
 /// (py_estimator.hpp).
 py::dict run_monte_carlo(const std::shared_ptr<sim::Scenario>& s, const std::string& case_name, int runs,
                          const UInt64Arg& seed, const std::optional<py::sequence>& estimators, int threads,
-                         std::optional<int> steps, const py::object& progress) {
+                         std::optional<int> steps, const py::object& progress, const UInt64Arg& first_run) {
   const bool has_progress = !progress.is_none();
   if (has_progress && !PyCallable_Check(progress.ptr()))
     throw py::type_error("progress: expected a callable progress(done, total) or None");
   sim::MonteCarloOptions opt;
   opt.runs = runs;
   opt.seed = seed.get("seed");
+  opt.first_run = first_run.get("first_run");
   opt.threads = threads;
   opt.steps = steps_arg(steps);
   // Both callbacks run on this (the calling) thread and take the GIL only while they call into Python;
@@ -137,6 +138,7 @@ py::dict run_monte_carlo(const std::shared_ptr<sim::Scenario>& s, const std::str
   r["scenario"] = res.scenario;
   r["case"] = res.case_name;
   r["runs"] = res.runs;
+  r["first_run"] = res.first_run;
   r["steps"] = res.steps;
   r["seed"] = res.seed;
   r["discard"] = res.discard;
@@ -350,12 +352,13 @@ dict
       "run_monte_carlo",
       [](const std::string& name, const std::string& case_name, int runs, const UInt64Arg& seed,
          const std::optional<py::sequence>& estimators, int threads, std::optional<int> steps,
-         const py::object& progress) {
+         const py::object& progress, const UInt64Arg& first_run) {
         return run_monte_carlo(std::const_pointer_cast<sim::Scenario>(sim::registry().scenario_ptr(name)),
-                               case_name, runs, seed, estimators, threads, steps, progress);
+                               case_name, runs, seed, estimators, threads, steps, progress, first_run);
       },
       py::arg("name"), py::arg("case"), py::arg("runs"), py::arg("seed"), py::arg("estimators") = py::none(),
       py::arg("threads") = 0, py::arg("steps") = py::none(), py::arg("progress") = py::none(),
+      py::arg("first_run") = UInt64Arg(0),
       R"doc(Monte Carlo run of estimators, registered or written in Python, on identical draws.
 
 Every run's draw is generated once and fed to every estimator; the result does not depend on
@@ -387,13 +390,17 @@ steps : int, optional
     Steps per run; default the scenario's.
 progress : callable, optional
     ``progress(done, total)``, called on the calling thread (with the GIL) as runs complete.
+first_run : int, default 0
+    Index of the first run: the runs are ``first_run`` .. ``first_run + runs - 1``, each the same
+    as in a run from 0 (row r of the result is run ``first_run + r``), so chunks run apart join
+    into one result (``nlosloc.montecarlo.merge``).
 
 Returns
 -------
 dict
     ``estimators``: dict name -> {``errors``: runs x T position error norms (m),
     ``time_per_step_ns``: runs, and for estimators that classify sight ``sight_accuracy``:
-    (runs, T) fraction of anchors classified correctly, ``sight_anchor_accuracy``: (runs, B)}; and ``scenario``, ``case``, ``runs``, ``steps``, ``seed``,
+    (runs, T) fraction of anchors classified correctly, ``sight_anchor_accuracy``: (runs, B)}; and ``scenario``, ``case``, ``runs``, ``first_run``, ``steps``, ``seed``,
     ``discard``, ``dt`` (s), ``threads``, ``wall_seconds``.
 
 Raises
@@ -409,7 +416,7 @@ TypeError
 
   m.def("run_monte_carlo", &run_monte_carlo, py::arg("scenario"), py::arg("case"), py::arg("runs"),
         py::arg("seed"), py::arg("estimators") = py::none(), py::arg("threads") = 0,
-        py::arg("steps") = py::none(), py::arg("progress") = py::none(),
+        py::arg("steps") = py::none(), py::arg("progress") = py::none(), py::arg("first_run") = UInt64Arg(0),
         R"doc(Monte Carlo run on a scenario object, e.g. ``H2(params)`` with custom parameters.
 
 The same as the overload taking a name, with the estimators registered for ``scenario.name``
@@ -420,7 +427,7 @@ Parameters
 ----------
 scenario : Scenario
     An H1 or H2 (or any Scenario whose name is registered).
-case, runs, seed, estimators, threads, steps, progress
+case, runs, seed, estimators, threads, steps, progress, first_run
     As in the overload taking a name.
 
 Returns

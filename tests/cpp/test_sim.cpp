@@ -53,6 +53,10 @@ class TruthPlusNoise final : public Estimator {
   double u_ = 0.0;
 };
 
+EstimatorFactory make_k1_ekf_spec() {
+  return [](const Scenario& s, int c) { return make_k1_ekf(dynamic_cast<const K1&>(s), c); };
+}
+
 EstimatorSpec truth_plus_noise(const std::string& name) {
   return {name, [name](const Scenario&, int) { return std::make_unique<TruthPlusNoise>(name); }};
 }
@@ -297,6 +301,38 @@ TEST_CASE("runner feeds identical draws to every estimator and seeds them per (s
   const auto r1 = run_monte_carlo(k1, "2LOS/1NLOS", {truth_plus_noise("a")}, o);
   CHECK(r1.estimator("a").errors == r.estimator("a").errors);
   CHECK((r.estimator("a").time_per_step_ns.array() > 0).all());
+}
+
+TEST_CASE("runner first_run: runs first_run.. equal the same rows of a run from 0", "[sim][montecarlo]") {
+  const K1 k1;
+  const EstimatorSpec ekf{"EKF", make_k1_ekf_spec()};
+  MonteCarloOptions o;
+  o.runs = 6;
+  o.seed = 5;
+  o.steps = 110;
+  o.threads = 2;
+  const auto full = run_monte_carlo(k1, "2LOS/1NLOS", {ekf, truth_plus_noise("a")}, o);
+  CHECK(full.first_run == 0);
+  o.runs = 3;
+  o.first_run = 2;
+  o.threads = 1;
+  const auto part = run_monte_carlo(k1, "2LOS/1NLOS", {ekf, truth_plus_noise("a")}, o);
+  CHECK(part.first_run == 2);
+  REQUIRE(part.runs == 3);
+  for (const char* name : {"EKF", "a"}) {
+    const RowMatX rows = full.estimator(name).errors.middleRows(2, 3);
+    CHECK(part.estimator(name).errors == rows);
+  }
+  CHECK(part.estimator("EKF").errors.minCoeff() > 0.0);  // the EKF rows are not the noise-free truth
+  // The last possible run, and one past it.
+  o.runs = 1;
+  o.first_run = std::numeric_limits<std::uint64_t>::max();
+  CHECK(run_monte_carlo(k1, "2LOS/1NLOS", {ekf}, o).first_run == o.first_run);
+  o.runs = 2;
+  CHECK_THROWS_WITH(
+      run_monte_carlo(k1, "2LOS/1NLOS", {ekf}, o),
+      "first_run: expected first_run + runs - 1 <= 2^64 - 1, got first_run 18446744073709551615 "
+      "and runs 2");
 }
 
 TEST_CASE("runner results are bit-identical for 1 and 2 threads", "[sim][montecarlo]") {

@@ -27,8 +27,11 @@ namespace nlosloc::sim {
 struct MonteCarloOptions {
   int runs = 100;          ///< number of runs N >= 1 (Ke & Wu Sec. 6: N = 100)
   std::uint64_t seed = 1;  ///< seed; run r draws from Rng(seed, r)
-  int threads = 0;         ///< worker threads; 0 = std::thread::hardware_concurrency()
-  int steps = 0;           ///< steps per run; 0 = the scenario's default
+  /// Index of the first run: the runs are first_run .. first_run + runs - 1, each the same as in a run from
+  /// 0, so runs split into chunks (other processes or machines) join into one result, row for row.
+  std::uint64_t first_run = 0;
+  int threads = 0;  ///< worker threads; 0 = std::thread::hardware_concurrency()
+  int steps = 0;    ///< steps per run; 0 = the scenario's default
   /// Called on the calling thread with (runs done, runs) at the start and whenever runs complete.
   /// May throw to cancel (workers stop after their current run; the exception is rethrown).
   std::function<void(int done, int total)> progress;
@@ -62,6 +65,7 @@ struct MonteCarloResult {
   std::string case_name;
   int case_index = 0;
   int runs = 0;
+  std::uint64_t first_run = 0;  ///< row r of every matrix is run first_run + r
   int steps = 0;
   int discard = 0;  ///< the scenario's discard (statistics use steps k >= discard)
   int threads = 0;  ///< workers actually used
@@ -108,6 +112,10 @@ inline MonteCarloResult run_monte_carlo(const Scenario& scenario, const std::str
                                         const std::vector<EstimatorSpec>& estimators,
                                         const MonteCarloOptions& opt = {}) {
   NLOSLOC_ENSURE(opt.runs >= 1, "runs: expected >= 1, got " + std::to_string(opt.runs));
+  NLOSLOC_ENSURE(
+      opt.first_run <= std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(opt.runs - 1),
+      "first_run: expected first_run + runs - 1 <= 2^64 - 1, got first_run " + std::to_string(opt.first_run) +
+          " and runs " + std::to_string(opt.runs));
   NLOSLOC_ENSURE(opt.threads >= 0,
                  "threads: expected >= 0 (0 = all cores), got " + std::to_string(opt.threads));
   NLOSLOC_ENSURE(opt.steps >= 0,
@@ -125,6 +133,7 @@ inline MonteCarloResult run_monte_carlo(const Scenario& scenario, const std::str
   res.case_name = case_name;
   res.case_index = scenario.case_index(case_name);
   res.runs = opt.runs;
+  res.first_run = opt.first_run;
   res.steps = steps;
   res.discard = scenario.discard();
   res.seed = opt.seed;
@@ -162,11 +171,12 @@ inline MonteCarloResult run_monte_carlo(const Scenario& scenario, const std::str
       while (!stop.load(std::memory_order_relaxed)) {
         const int r = next.fetch_add(1);
         if (r >= R) break;
-        const Draw d = scenario.draw(case_name, opt.seed, static_cast<std::uint64_t>(r), T);
+        const std::uint64_t run = opt.first_run + static_cast<std::uint64_t>(r);  // row r
+        const Draw d = scenario.draw(case_name, opt.seed, run, T);
         Yt = d.y.transpose();
         Ot = d.quality.transpose();
         for (std::size_t e = 0; e < E; ++e) {
-          Rng rng(est_seed[e], static_cast<std::uint64_t>(r));
+          Rng rng(est_seed[e], run);
           est[e]->reset(d, rng);
           const bool sighted = est[e]->estimates_sight();
           const auto B = static_cast<Eigen::Index>(d.sight.cols());

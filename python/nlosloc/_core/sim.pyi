@@ -1170,7 +1170,7 @@ def run_k2_study(scenario: K2, runs: typing.SupportsInt | typing.SupportsIndex, 
         As in the overload without a scenario.
     """
 @typing.overload
-def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, estimators: collections.abc.Sequence | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None) -> dict:
+def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, estimators: collections.abc.Sequence | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None, first_run: int = 0) -> dict:
     """
     Monte Carlo run of estimators, registered or written in Python, on identical draws.
     
@@ -1203,13 +1203,17 @@ def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.Supp
         Steps per run; default the scenario's.
     progress : callable, optional
         ``progress(done, total)``, called on the calling thread (with the GIL) as runs complete.
+    first_run : int, default 0
+        Index of the first run: the runs are ``first_run`` .. ``first_run + runs - 1``, each the same
+        as in a run from 0 (row r of the result is run ``first_run + r``), so chunks run apart join
+        into one result (``nlosloc.montecarlo.merge``).
     
     Returns
     -------
     dict
         ``estimators``: dict name -> {``errors``: runs x T position error norms (m),
         ``time_per_step_ns``: runs, and for estimators that classify sight ``sight_accuracy``:
-        (runs, T) fraction of anchors classified correctly, ``sight_anchor_accuracy``: (runs, B)}; and ``scenario``, ``case``, ``runs``, ``steps``, ``seed``,
+        (runs, T) fraction of anchors classified correctly, ``sight_anchor_accuracy``: (runs, B)}; and ``scenario``, ``case``, ``runs``, ``first_run``, ``steps``, ``seed``,
         ``discard``, ``dt`` (s), ``threads``, ``wall_seconds``.
     
     Raises
@@ -1223,7 +1227,7 @@ def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.Supp
         run and is raised here.
     """
 @typing.overload
-def run_monte_carlo(scenario: Scenario, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, estimators: collections.abc.Sequence | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None) -> dict:
+def run_monte_carlo(scenario: Scenario, case: str, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, estimators: collections.abc.Sequence | None = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, steps: typing.SupportsInt | typing.SupportsIndex | None = None, progress: typing.Any = None, first_run: int = 0) -> dict:
     """
     Monte Carlo run on a scenario object, e.g. ``H2(params)`` with custom parameters.
     
@@ -1235,7 +1239,7 @@ def run_monte_carlo(scenario: Scenario, case: str, runs: typing.SupportsInt | ty
     ----------
     scenario : Scenario
         An H1 or H2 (or any Scenario whose name is registered).
-    case, runs, seed, estimators, threads, steps, progress
+    case, runs, seed, estimators, threads, steps, progress, first_run
         As in the overload taking a name.
     
     Returns

@@ -1,0 +1,170 @@
+"""Monte Carlo runs split into chunks: first_run, montecarlo.merge, and run(executor=...)."""
+
+from __future__ import annotations
+
+import multiprocessing
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+
+import numpy as np
+import pytest
+
+from nlosloc import core, montecarlo, sim
+
+CASE = "2LOS/1NLOS"
+STEPS = 110  # K1 leaves out its first 100 samples
+
+
+class NoisyTruth:
+    """The true position plus a draw of the estimator's own generator (module level: it pickles)."""
+
+    def __init__(self, scenario: sim.Scenario, case_index: int) -> None:
+        pass
+
+    def reset(self, draw: dict, rng: core.Rng) -> None:
+        self.positions = draw["positions"]
+        self.rng = rng
+
+    def step(self, k: int, y: np.ndarray, o: np.ndarray) -> np.ndarray:
+        self.k = k
+        return self.positions[k] + np.array([self.rng.normal(), 0.0])
+
+    def sight_estimate(self) -> list[int]:
+        return [0, 0, self.k % 2]
+
+
+ESTIMATORS = ["EKF", ("noisy", NoisyTruth)]
+
+
+@pytest.fixture(scope="module")
+def full() -> dict:
+    return sim.run_monte_carlo("K1", CASE, 6, 3, ESTIMATORS, steps=STEPS)
+
+
+def assert_same_runs(a: dict, b: dict) -> None:
+    assert list(a["estimators"]) == list(b["estimators"])
+    for name, e in a["estimators"].items():
+        assert set(e) == set(b["estimators"][name])
+        for field in ("errors", "sight_accuracy", "sight_anchor_accuracy"):
+            if field in e:
+                np.testing.assert_array_equal(e[field], b["estimators"][name][field])
+        assert len(e["time_per_step_ns"]) == len(b["estimators"][name]["time_per_step_ns"])
+    for key in ("scenario", "case", "seed", "steps", "discard", "dt", "runs", "first_run"):
+        assert a[key] == b[key], key
+
+
+def test_first_run_gives_the_same_runs_as_a_run_from_zero(full: dict) -> None:
+    assert full["first_run"] == 0
+    part = sim.run_monte_carlo("K1", CASE, 3, 3, ESTIMATORS, steps=STEPS, first_run=2)
+    assert (part["first_run"], part["runs"]) == (2, 3)
+    for name in ("EKF", "noisy"):
+        np.testing.assert_array_equal(
+            part["estimators"][name]["errors"], full["estimators"][name]["errors"][2:5]
+        )
+    np.testing.assert_array_equal(
+        part["estimators"]["noisy"]["sight_accuracy"],
+        full["estimators"]["noisy"]["sight_accuracy"][2:5],
+    )
+    # the noisy estimator's draws are those of Rng(estimator_seed(seed, name), run)
+    rng = core.Rng(sim.estimator_seed(3, "noisy"), 4)
+    expected = [abs(rng.normal()) for _ in range(STEPS)]
+    np.testing.assert_allclose(
+        part["estimators"]["noisy"]["errors"][2], expected, rtol=0, atol=1e-9
+    )
+    with pytest.raises(ValueError, match=r"first_run: expected an integer in \[0, 2\*\*64 - 1\]"):
+        sim.run_monte_carlo("K1", CASE, 1, 3, ["EKF"], steps=STEPS, first_run=-1)
+    with pytest.raises(
+        ValueError, match="first_run: expected first_run \\+ runs - 1 <= 2\\^64 - 1"
+    ):
+        sim.run_monte_carlo("K1", CASE, 2, 3, ["EKF"], steps=STEPS, first_run=2**64 - 1)
+
+
+def test_merge_joins_consecutive_chunks_in_any_order(full: dict) -> None:
+    chunks = [
+        sim.run_monte_carlo("K1", CASE, n, 3, ESTIMATORS, steps=STEPS, first_run=f)
+        for f, n in ((0, 2), (2, 1), (3, 3))
+    ]
+    merged = montecarlo.merge([chunks[2], chunks[0], chunks[1]])
+    assert_same_runs(merged, full)
+    assert merged["wall_seconds"] == pytest.approx(sum(c["wall_seconds"] for c in chunks))
+    with pytest.raises(ValueError, match="expected at least one result"):
+        montecarlo.merge([])
+    with pytest.raises(ValueError, match="runs from 3 follow runs ending at 1"):
+        montecarlo.merge([chunks[0], chunks[2]])
+    with pytest.raises(ValueError, match="runs from 0 follow runs ending at 1"):
+        montecarlo.merge([chunks[0], chunks[0]])
+    other_seed = sim.run_monte_carlo("K1", CASE, 1, 4, ESTIMATORS, steps=STEPS, first_run=2)
+    with pytest.raises(ValueError, match="seed differs between chunks"):
+        montecarlo.merge([chunks[0], other_seed])
+    ekf_only = sim.run_monte_carlo("K1", CASE, 1, 3, ["EKF"], steps=STEPS, first_run=2)
+    with pytest.raises(ValueError, match="estimators differ between chunks"):
+        montecarlo.merge([chunks[0], ekf_only])
+
+
+def test_an_executor_runs_the_chunks_and_gives_the_single_call_result(full: dict) -> None:
+    done: list[int] = []
+    ctx = multiprocessing.get_context("spawn")  # no fork of a process with threads
+    with ProcessPoolExecutor(max_workers=2, mp_context=ctx) as ex:
+        res = montecarlo.run(
+            "K1",
+            CASE,
+            6,
+            3,
+            ESTIMATORS,
+            threads=1,
+            steps=STEPS,
+            progress=lambda d, t: done.append(d),
+            executor=ex,
+            chunk_runs=4,
+        )
+    assert_same_runs(res, full)
+    assert sorted(done) == done and done[-1] == 6 and set(done) <= {2, 4, 6}
+    with ThreadPoolExecutor(max_workers=2) as ex:  # a first_run and a default chunk size
+        part = montecarlo.run(
+            "K1", CASE, 3, 3, ESTIMATORS, steps=STEPS, progress=False, first_run=3, executor=ex
+        )
+    np.testing.assert_array_equal(
+        part["estimators"]["noisy"]["errors"], full["estimators"]["noisy"]["errors"][3:]
+    )
+
+
+def test_a_dask_client_is_an_executor(full: dict) -> None:
+    distributed = pytest.importorskip("distributed")
+    with (
+        distributed.LocalCluster(
+            n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        res = montecarlo.run(
+            "K1", CASE, 6, 3, ESTIMATORS, steps=STEPS, progress=False, executor=client, chunk_runs=2
+        )
+    assert_same_runs(res, full)
+
+
+class Failing(NoisyTruth):
+    def step(self, k: int, y: np.ndarray, o: np.ndarray) -> np.ndarray:
+        raise RuntimeError("chunk failed on purpose")
+
+
+def test_executor_arguments_and_failures() -> None:
+    with ThreadPoolExecutor(max_workers=2) as ex:
+        with pytest.raises(TypeError, match="name: with an executor, expected a scenario name"):
+            montecarlo.run(sim.K1(), CASE, 2, executor=ex, progress=False)
+        with pytest.raises(ValueError, match="case: unknown case 'nope' of scenario K1"):
+            montecarlo.run("K1", "nope", 2, executor=ex, progress=False)
+        with pytest.raises(
+            ValueError, match="estimators: unknown estimator 'nope' for scenario K1"
+        ):
+            montecarlo.run("K1", CASE, 2, estimators=["nope"], executor=ex, progress=False)
+        with pytest.raises(ValueError, match="chunk_runs: expected an int >= 1, got 0"):
+            montecarlo.run("K1", CASE, 2, executor=ex, chunk_runs=0, progress=False)
+        with pytest.raises(ValueError, match="runs: expected an int >= 1, got 0"):
+            montecarlo.run("K1", CASE, 0, executor=ex, progress=False)
+        with pytest.raises(RuntimeError, match="chunk failed on purpose"):
+            montecarlo.run(
+                "K1", CASE, 4, 1, [("f", Failing)], steps=STEPS, executor=ex, progress=False
+            )
+    with pytest.raises(TypeError, match="executor: expected an object with submit"):
+        montecarlo.run("K1", CASE, 2, executor=object(), progress=False)
+    with pytest.raises(ValueError, match="chunk_runs: only with an executor"):
+        montecarlo.run("K1", CASE, 2, chunk_runs=1, progress=False)
