@@ -45,7 +45,7 @@ def run(
     ----------
     name : str or nlosloc.sim.Scenario
         Scenario name (see ``nlosloc.sim.scenarios()``), or a scenario object such as
-        ``sim.H2(params)`` (not with ``executor``: scenario objects do not pickle).
+        ``sim.H2(params)`` (scenarios pickle as their class and parameters).
     case : str
         Case name (see ``nlosloc.sim.scenario_info(name)["cases"]``).
     runs : int, default 100
@@ -71,8 +71,8 @@ def run(
     executor : concurrent.futures.Executor or dask.distributed.Client, optional
         Runs the runs in chunks of ``chunk_runs`` through ``executor.submit`` (other processes or
         machines) and joins the chunks with :func:`merge`: the result equals the one of a single
-        call. The arguments travel by pickle, so give a scenario name, and factories of Python
-        estimators that pickle (module-level classes; dask also pickles lambdas).
+        call. The arguments travel by pickle: factories of Python estimators must pickle too
+        (module-level classes; dask also pickles lambdas).
     chunk_runs : int, optional
         Runs per chunk with ``executor``; default ``ceil(runs / 16)``.
 
@@ -114,7 +114,7 @@ def _label(name: str | _sim.Scenario) -> str:
 
 
 def _run_chunk(
-    name: str,
+    name: str | _sim.Scenario,
     case: str,
     runs: int,
     seed: int,
@@ -142,11 +142,6 @@ def _run_chunks(
     executor: Any,
     chunk_runs: int | None,
 ) -> dict[str, Any]:
-    if not isinstance(name, str):
-        raise TypeError(
-            "name: with an executor, expected a scenario name (scenario objects do not pickle), "
-            f"got {type(name).__name__}"
-        )
     if not callable(getattr(executor, "submit", None)):
         raise TypeError(
             "executor: expected an object with submit(fn, *args) returning futures, such as a "
@@ -162,17 +157,18 @@ def _run_chunks(
     elif isinstance(chunk_runs, bool) or not isinstance(chunk_runs, int) or chunk_runs < 1:
         raise ValueError(f"chunk_runs: expected an int >= 1, got {chunk_runs!r}")
     # Checked here, where the error is clear, rather than in every chunk.
-    info = _sim.scenario_info(name)
-    if case not in info["cases"]:
+    label = _label(name)
+    cases = _sim.scenario_info(name)["cases"] if isinstance(name, str) else name.cases
+    if case not in cases:
         raise ValueError(
-            f"case: unknown case '{case}' of scenario {name}; expected one of: "
-            + ", ".join(info["cases"])
+            f"case: unknown case '{case}' of scenario {label}; expected one of: " + ", ".join(cases)
         )
+    registered = _sim.scenario_info(label)["estimators"] if label in _sim.scenarios() else []
     for e in estimators or []:
-        if isinstance(e, str) and e not in info["estimators"]:
+        if isinstance(e, str) and e not in registered:
             raise ValueError(
-                f"estimators: unknown estimator '{e}' for scenario {name}; expected one of: "
-                + ", ".join(info["estimators"])
+                f"estimators: unknown estimator '{e}' for scenario {label}; expected one of: "
+                + ", ".join(registered)
             )
     t0 = time.perf_counter()
     starts = range(first_run, first_run + runs, chunk_runs)
@@ -182,7 +178,7 @@ def _run_chunks(
         for start, n in zip(starts, sizes)
     ]
     report = progress if callable(progress) else None
-    bar = _Bar(total=runs, desc=f"{name} {case}") if progress and report is None else None
+    bar = _Bar(total=runs, desc=f"{label} {case}") if progress and report is None else None
     try:
         pending = set(range(len(futures)))
         done = 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import multiprocessing
+import pickle
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
 import numpy as np
@@ -148,8 +149,8 @@ class Failing(NoisyTruth):
 
 def test_executor_arguments_and_failures() -> None:
     with ThreadPoolExecutor(max_workers=2) as ex:
-        with pytest.raises(TypeError, match="name: with an executor, expected a scenario name"):
-            montecarlo.run(sim.K1(), CASE, 2, executor=ex, progress=False)
+        with pytest.raises(ValueError, match="case: unknown case 'nope' of scenario K3"):
+            montecarlo.run(sim.K3(), "nope", 2, executor=ex, progress=False)
         with pytest.raises(ValueError, match="case: unknown case 'nope' of scenario K1"):
             montecarlo.run("K1", "nope", 2, executor=ex, progress=False)
         with pytest.raises(
@@ -168,3 +169,76 @@ def test_executor_arguments_and_failures() -> None:
         montecarlo.run("K1", CASE, 2, executor=object(), progress=False)
     with pytest.raises(ValueError, match="chunk_runs: only with an executor"):
         montecarlo.run("K1", CASE, 2, chunk_runs=1, progress=False)
+
+
+def fields(obj: object) -> dict:
+    cls = type(obj)
+    return {k: getattr(obj, k) for k in dir(cls) if isinstance(getattr(cls, k), property)}
+
+
+def test_scenarios_and_their_parameters_pickle() -> None:
+    h1, h2, k1, k2, k3 = (
+        sim.H1Params(),
+        sim.H2Params(),
+        sim.K1Params(),
+        sim.K2Params(),
+        sim.K3Params(),
+    )
+    h1.speed, h1.start = 3.0, np.array([10.0, -20.0])
+    h2.side, h2.pf_particles = 120.0, 500
+    k1.sigma_los, k1.anchors = 4.0, k1.anchors + 10.0
+    base = k2.base
+    base.nlos_mean = 300.0
+    k2.base, k2.period = base, 30
+    k3.threshold = 2.5
+    for params, make, case in (
+        (h1, sim.H1, None),
+        (h2, sim.H2, None),
+        (k1, sim.K1, None),
+        (k2, sim.K2, "alternating"),
+        (k3, sim.K3, None),
+    ):
+        again = pickle.loads(pickle.dumps(params))
+        assert type(again) is type(params)
+        for key, value in fields(params).items():
+            got = getattr(again, key)
+            if isinstance(value, sim.K1Params):
+                assert fields(got).keys() == fields(value).keys()
+                for k, v in fields(value).items():
+                    np.testing.assert_array_equal(getattr(got, k), v)
+            else:
+                np.testing.assert_array_equal(got, value, err_msg=key)
+        scenario = make(params)
+        copy = pickle.loads(pickle.dumps(scenario))
+        assert type(copy) is type(scenario)
+        c = case or scenario.cases[-1]
+        a, b = scenario.draw(c, 5, 1, 30), copy.draw(c, 5, 1, 30)
+        np.testing.assert_array_equal(a["y"], b["y"])
+        np.testing.assert_array_equal(a["positions"], b["positions"])
+    assert pickle.loads(pickle.dumps(k2)).base.nlos_mean == 300.0
+
+
+def test_an_executor_runs_a_scenario_with_custom_parameters() -> None:
+    params = sim.K1Params()
+    params.sigma_los = 4.0
+    scenario = sim.K1(params)
+    local = montecarlo.run(scenario, CASE, 4, 3, ESTIMATORS, steps=STEPS, progress=False)
+    ctx = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=2, mp_context=ctx) as ex:
+        remote = montecarlo.run(
+            scenario,
+            CASE,
+            4,
+            3,
+            ESTIMATORS,
+            threads=1,
+            steps=STEPS,
+            progress=False,
+            executor=ex,
+            chunk_runs=2,
+        )
+    assert_same_runs(remote, local)
+    default = sim.run_monte_carlo("K1", CASE, 4, 3, ["EKF"], steps=STEPS)
+    assert not np.array_equal(
+        default["estimators"]["EKF"]["errors"], local["estimators"]["EKF"]["errors"]
+    )
