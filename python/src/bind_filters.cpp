@@ -1,7 +1,7 @@
 /// \file bind_filters.cpp
 /// nlosloc.filters: KF, EKF, UKF and augmented UKF. The C++ filters are templates over the motion model;
-/// Python sees one class per filter holding a std::variant over the motion models (type erasure at the
-/// filter level, so nothing virtual runs per sigma point).
+/// Python sees one class per filter holding a std::variant over the motion models (AnyFilter,
+/// any_filter.hpp).
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -9,6 +9,7 @@
 
 #include <variant>
 
+#include "any_filter.hpp"
 #include "batch.hpp"
 #include "bind.hpp"
 #include "motion_arg.hpp"
@@ -20,46 +21,13 @@ namespace py = pybind11;
 using namespace nlosloc;
 
 namespace {
+using bind::AnyFilter;
+using bind::EkfT;
+using bind::KfT;
 using bind::to_gaussian;
 using bind::to_motion;
-
-/// A filter of family F over any motion model in AnyMotion.
-template <template <class> class F>
-class AnyFilter {
- public:
-  /// `make(motion, initial)` builds the filter for the concrete motion type held by `motion`.
-  template <class Make>
-  AnyFilter(const py::object& motion_obj, const VecX& mean, const MatX& cov, Make&& make)
-      : f_(std::visit(
-            [&](const auto& mo) -> V {
-              using M = std::decay_t<decltype(mo)>;
-              return make(mo, to_gaussian<M::kDim>(mean, cov, "mean", "cov"));
-            },
-            to_motion(motion_obj))) {}
-
-  template <class Fn>
-  decltype(auto) visit(Fn&& fn) {
-    return std::visit(std::forward<Fn>(fn), f_);
-  }
-  template <class Fn>
-  decltype(auto) visit(Fn&& fn) const {
-    return std::visit(std::forward<Fn>(fn), f_);
-  }
-
- private:
-  using V = std::variant<F<ConstantVelocity2>, F<ConstantVelocity3>, F<ConstantVelocityClock2>,
-                         F<ConstantVelocityClock3>, F<TwoWayClock>>;
-  V f_;
-};
-
-template <class M>
-using KfT = Kf<M>;
-template <class M>
-using EkfT = Ekf<M>;
-template <class M>
-using UkfT = Ukf<M>;
-template <class M>
-using UkfAugT = UkfAugmented<M>;
+using bind::UkfAugT;
+using bind::UkfT;
 
 /// Reads the optional sight argument of step/update: None, or (B,) integers.
 std::optional<VecXi> sight_arg(const py::object& s) {

@@ -383,7 +383,12 @@ estimators : list, optional
     quality statistics, NaN = missing; returns the D position coordinates), and optionally
     ``sight_estimate()`` (after each step: B integer conditions, 0 = LOS; then its result has
     ``sight_accuracy``). Python estimators hold the GIL while they run, so they run one at a
-    time beside the C++ ones; their ``time_per_step_ns`` includes the call overhead.
+    time beside the C++ ones; their ``time_per_step_ns`` includes the call overhead. An entry
+    may also be ``(name, filter)`` or ``(name, filter, sight)`` with an ``Ekf``, ``Ukf`` or
+    ``UkfAugmented`` of :mod:`nlosloc.filters` built for the scenario's model (its state size,
+    measurement rows and dt are checked): each worker runs a copy of it natively, without the
+    GIL, from the draw's initial belief; ``sight`` is ``"assume_los"`` (default) or
+    ``"oracle"`` (the draw's true sight: a bound, not an estimator).
 threads : int, default 0
     Worker threads; 0 uses every core.
 steps : int, optional
@@ -409,8 +414,8 @@ ValueError
     On an unknown scenario, case or estimator name, a name given twice, a bad count, or a Python
     estimator's step() or sight_estimate() result of the wrong size.
 TypeError
-    On an entry of ``estimators`` that is neither a name nor a (name, callable) pair, or a factory
-    result without ``reset`` and ``step``. An exception raised inside a Python estimator stops the
+    On an entry of ``estimators`` that is neither a name, a (name, callable) pair nor a
+    (name, filter[, sight]) tuple, or a factory result without ``reset`` and ``step``. An exception raised inside a Python estimator stops the
     run and is raised here.
 )doc");
 

@@ -10,13 +10,17 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <utility>
 
+#include "any_filter.hpp"
 #include "nlosloc/core/random.hpp"
+#include "nlosloc/sim/estimators.hpp"
 
 namespace py = pybind11;
 
@@ -156,6 +160,52 @@ class PythonEstimator final : public sim::Estimator {
   std::thread::id owner_ = std::this_thread::get_id();  // the runner makes and drops it on one worker
 };
 
+/// The runner's estimator for a filter object of nlosloc.filters (Ekf, Ukf, UkfAugmented) given in place of a
+/// factory: each worker runs its own copy of the filter as it was when the run started (the Python object is
+/// not touched), natively and without the GIL (sim::GaussianFilterEstimator: the draw's initial belief at
+/// t = 0, update at step 0, predict + update after). False when `h` is no such filter. ValueError naming the
+/// estimator when its state, measurement rows or time step differ from the scenario's.
+template <template <class> class F>
+bool native_filter(const py::handle& h, const std::string& name, sim::SightPolicy sight,
+                   const sim::Scenario& s, std::vector<sim::EstimatorSpec>& specs) {
+  if (!py::isinstance<AnyFilter<F>>(h)) return false;
+  auto proto = std::make_shared<const AnyFilter<F>>(h.cast<const AnyFilter<F>&>());
+  proto->visit([&](const auto& f) {
+    constexpr int N = std::decay_t<decltype(f)>::kDim;
+    const std::string who = "estimators: the filter of '" + name + "' ";
+    if (N != s.state_dim())
+      throw py::value_error(who + "has a state of " + std::to_string(N) + " components; scenario " +
+                            s.name() + " has " + std::to_string(s.state_dim()));
+    if (f.measurements().rows() != s.measurements().rows())
+      throw py::value_error(who + "has " + std::to_string(f.measurements().rows()) +
+                            " measurement rows; scenario " + s.name() + " has " +
+                            std::to_string(s.measurements().rows()));
+    const double dt = f.motion().dt();
+    if (!(std::abs(dt - s.dt()) <= 1e-12 * std::max(1.0, std::abs(s.dt()))))
+      throw py::value_error(who + "predicts over dt = " + py::repr(py::float_(dt)).cast<std::string>() +
+                            " s; scenario " + s.name() + " samples every " +
+                            py::repr(py::float_(s.dt())).cast<std::string>() + " s");
+  });
+  specs.push_back({name, [name, proto, sight](const sim::Scenario&, int) {
+                     return proto->visit([&](const auto& f) -> std::unique_ptr<sim::Estimator> {
+                       return sim::make_filter_estimator(name, f, sight);
+                     });
+                   }});
+  return true;
+}
+
+/// The sight policy of a native filter's entry: "assume_los" (default) or "oracle".
+sim::SightPolicy sight_policy(const py::handle& h, std::size_t i) {
+  if (py::isinstance<py::str>(h)) {
+    const auto v = h.cast<std::string>();
+    if (v == "assume_los") return sim::SightPolicy::kAssumeLos;
+    if (v == "oracle") return sim::SightPolicy::kOracle;
+  }
+  throw py::value_error("estimators[" + std::to_string(i) +
+                        "]: expected the sight policy 'assume_los' or 'oracle' as third item, got " +
+                        py::repr(h).cast<std::string>());
+}
+
 /// A registered estimator of scenario s.
 sim::EstimatorSpec registered(const sim::Registry& reg, const sim::Scenario& s, const std::string& n) {
   return {n, reg.estimator(s.name(), n)};
@@ -202,13 +252,26 @@ std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
       specs.push_back(registered(reg, s, e.cast<std::string>()));
       continue;
     }
-    const bool pair = (py::isinstance<py::tuple>(e) || py::isinstance<py::list>(e)) && py::len(e) == 2 &&
-                      py::isinstance<py::str>(e[py::int_(0)]) && PyCallable_Check(e[py::int_(1)].ptr()) != 0;
+    const bool tuple_like = py::isinstance<py::tuple>(e) || py::isinstance<py::list>(e);
+    const std::size_t len = tuple_like ? py::len(e) : 0;
+    const bool named = (len == 2 || len == 3) && py::isinstance<py::str>(e[py::int_(0)]);
+    if (named) {  // (name, filter[, sight]): a filter object of nlosloc.filters, run natively
+      const std::string name = e[py::int_(0)].cast<std::string>();
+      const py::object f = e[py::int_(1)];
+      const sim::SightPolicy sight =
+          len == 3 ? sight_policy(e[py::int_(2)], i) : sim::SightPolicy::kAssumeLos;
+      if (native_filter<EkfT>(f, name, sight, s, specs) || native_filter<UkfT>(f, name, sight, s, specs) ||
+          native_filter<UkfAugT>(f, name, sight, s, specs))
+        continue;
+    }
+    const bool pair = named && len == 2 && PyCallable_Check(e[py::int_(1)].ptr()) != 0;
     if (!pair)
-      throw py::type_error("estimators[" + std::to_string(i) +
-                           "]: expected a registered estimator name (str) or a (name, factory) pair with a "
-                           "callable factory(scenario, case_index), got " +
-                           py::repr(e).cast<std::string>());
+      throw py::type_error(
+          "estimators[" + std::to_string(i) +
+          "]: expected a registered estimator name (str), a (name, factory) pair with a "
+          "callable factory(scenario, case_index), or a (name, filter[, sight]) tuple with an "
+          "Ekf, Ukf or UkfAugmented of nlosloc.filters, got " +
+          py::repr(e).cast<std::string>());
     const std::string name = e[py::int_(0)].cast<std::string>();
     const SharedObject factory = share(e[py::int_(1)]);
     specs.push_back(

@@ -24,6 +24,8 @@ pybind11::dict draw_to_dict(sim::Draw d);
 ///  - otherwise each entry is a registered name (str) or a pair (name, factory), where
 ///    factory(scenario, case_index) returns an object with reset(draw, rng) and step(k, y, o) -> the (D,)
 ///    position estimate, and optionally sight_estimate() -> (B,) integer conditions.
+///  - or a tuple (name, filter) / (name, filter, sight) with an Ekf, Ukf or UkfAugmented of nlosloc.filters,
+///    which runs natively (a copy per worker, no GIL); sight "assume_los" (default) or "oracle".
 /// TypeError / ValueError naming `estimators` on a malformed entry. Call with the GIL held.
 std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
                                                 const std::shared_ptr<sim::Scenario>& scenario,

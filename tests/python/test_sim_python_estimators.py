@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from nlosloc import core, filters, montecarlo, sim
+from nlosloc import core, filters, models, montecarlo, noise, sim
 
 
 class PythonEkf:
@@ -278,3 +278,78 @@ def test_k2_study_of_a_custom_k2_with_python_estimators() -> None:
         sim.run_k2_study(scenario, 1, 1, 30, [("x", None)])
     with pytest.raises(ValueError, match="estimators: 'EKF' appears more than once"):
         sim.run_k2_study(1, 1, 30, ["EKF", ("EKF", PythonEkf)])
+
+
+def k1_filter(kind: str, scenario: sim.Scenario | None = None):
+    s = scenario or sim.K1()
+    make = {"ekf": filters.Ekf, "ukf": filters.Ukf, "ukf-aug": filters.UkfAugmented}[kind]
+    return make(s.motion, s.measurements, np.zeros(4), np.eye(4))
+
+
+def test_a_filter_object_runs_natively_as_an_estimator() -> None:
+    ekf = k1_filter("ekf")
+    res = sim.run_monte_carlo(
+        "K1",
+        "2LOS/1NLOS",
+        4,
+        7,
+        [
+            "EKF",
+            ("native-EKF", ekf),
+            ("oracle-EKF", k1_filter("ekf"), "oracle"),
+            ("UKF", k1_filter("ukf")),
+            ["UKF-aug", k1_filter("ukf-aug"), "assume_los"],
+        ],
+        threads=2,
+        steps=300,
+    )
+    e = {k: v["errors"] for k, v in res["estimators"].items()}
+    # the same C++ filter as the registered EKF: equal bit for bit
+    np.testing.assert_array_equal(e["native-EKF"], e["EKF"])
+    # a copy ran: the object keeps its belief
+    np.testing.assert_array_equal(ekf.mean, np.zeros(4))
+    assert ekf.time == 0.0
+    # knowing the NLOS node's noise (mean 513 m) removes most of the EKF's error
+    k = res["discard"]
+    assert np.median(e["oracle-EKF"][:, k:]) < 0.3 * np.median(e["EKF"][:, k:])
+    # the UKFs run the same model (no native estimator gives the same numbers to compare with)
+    assert np.all(np.isfinite(e["UKF"])) and np.all(np.isfinite(e["UKF-aug"]))
+    assert not np.array_equal(e["UKF"], e["EKF"])
+    assert 0.5 < np.median(e["UKF"][:, k:]) / np.median(e["EKF"][:, k:]) < 2.0
+    assert "sight_accuracy" not in res["estimators"]["native-EKF"]
+    # through the K2 study too
+    st = sim.run_k2_study(2, 1, 150, ["EKF", ("native-EKF", k1_filter("ekf"))])
+    np.testing.assert_array_equal(st.estimators[1].position_error, st.estimators[0].position_error)
+
+
+def test_a_filter_that_does_not_fit_the_scenario_is_refused() -> None:
+    run = sim.run_monte_carlo
+    case = "3LOS/0NLOS"
+    k1 = sim.K1()
+    with pytest.raises(
+        ValueError, match="the filter of 'f' has a state of 6 components; scenario K1 has 4"
+    ):
+        motion3 = models.ConstantVelocity3(0.1, 1.0, models.VelocityNoise.WhiteAcceleration)
+        meas3 = models.MeasurementStack(
+            models.ConstantVelocity3.layout(), np.zeros((1, 3)) + 1.0, 2
+        )
+        meas3.add_toa(0, [noise.Normal(0.0, 1.0), noise.Normal(0.0, 2.0)])
+        run("K1", case, 1, 1, [("f", filters.Ekf(motion3, meas3, np.zeros(6), np.eye(6)))])
+    two_rows = models.MeasurementStack(models.ConstantVelocity2.layout(), k1.anchors[:2], 2)
+    for b in range(2):
+        two_rows.add_toa(b, [noise.Normal(0.0, 50.0), noise.Normal(0.0, 60.0)])
+    with pytest.raises(ValueError, match="has 2 measurement rows; scenario K1 has 3"):
+        run("K1", case, 1, 1, [("f", filters.Ekf(k1.motion, two_rows, np.zeros(4), np.eye(4)))])
+    slow = models.ConstantVelocity2(0.5, 1.0, models.VelocityNoise.WhiteAcceleration)
+    with pytest.raises(
+        ValueError, match=r"predicts over dt = 0.5 s; scenario K1 samples every 0.1 s"
+    ):
+        run("K1", case, 1, 1, [("f", filters.Ukf(slow, k1.measurements, np.zeros(4), np.eye(4)))])
+    with pytest.raises(
+        ValueError, match=r"estimators\[0\]: expected the sight policy .* got 'truth'"
+    ):
+        run("K1", case, 1, 1, [("f", k1_filter("ekf"), "truth")])
+    with pytest.raises(
+        TypeError, match=r"estimators\[0\]: .* or a \(name, filter\[, sight\]\) tuple"
+    ):
+        run("K1", case, 1, 1, [("f", PythonEkf, "oracle")])
