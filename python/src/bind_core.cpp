@@ -5,6 +5,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+
 #include "bind.hpp"
 #include "int_arg.hpp"
 #include "nlosloc/core/cholesky.hpp"
@@ -31,6 +33,24 @@ void bind_core(py::module_& m) {
            "Generator for `seed`; `stream` selects an independent sequence (e.g. a Monte Carlo run).")
       .def("uniform", &Rng::uniform, "Uniform draw in the open interval (0, 1).")
       .def("normal", py::overload_cast<>(&Rng::normal), "Standard normal draw.")
+      .def(
+          "normal",
+          [](Rng& r, double mu, double sigma) {
+            if (!std::isfinite(mu)) throw std::invalid_argument("mu: expected a finite mean");
+            if (!(sigma >= 0.0 && std::isfinite(sigma)))
+              throw std::invalid_argument("sigma: expected a finite standard deviation >= 0, got " +
+                                          std::to_string(sigma));
+            return r.normal(mu, sigma);
+          },
+          py::arg("mu"), py::arg("sigma"), "Normal draw with mean mu and standard deviation sigma.")
+      .def(
+          "reseed",
+          [](Rng& r, const bind::UInt64Arg& seed, const bind::UInt64Arg& stream) {
+            r.reseed(seed.get("seed"), stream.get("stream"));
+          },
+          py::arg("seed"), py::arg("stream") = 0,
+          "Restarts the generator as Rng(seed, stream) would (in place, e.g. the rng a Monte Carlo estimator "
+          "is given).")
       .def(
           "normals",
           [](Rng& r, py::ssize_t n) {
@@ -161,5 +181,30 @@ void bind_core(py::module_& m) {
       "log_sum_exp", [](const VecX& v) { return log_sum_exp(v); }, py::arg("v"),
       "log(sum(exp(v))) computed stably; -inf for empty input.");
   m.def("wrap_angle", py::vectorize(&wrap_angle), py::arg("a"), "Wraps angles (rad) to (-pi, pi].");
+  m.def(
+      "log_normalize",
+      [](VecX v) {
+        const double z = log_normalize(v);
+        return py::make_tuple(v, z);
+      },
+      py::arg("v"),
+      "Log weights normalised so that sum(exp) = 1, and the normaliser log_sum_exp(v): a tuple (v - z, z) "
+      "(v unchanged when z is not finite).");
+  m.def(
+      "gaussian_log_pdf_chol",
+      [](const MatX& L, const VecX& x) {
+        detail::ensure_shape(L, x.size(), x.size(), "L");
+        if (!L.allFinite() || !(L.diagonal().array() > 0.0).all() ||
+            !MatX(L.triangularView<Eigen::StrictlyUpper>()).isZero(0.0))
+          throw std::invalid_argument(
+              "L: expected a lower-triangular Cholesky factor with a positive diagonal (robust_cholesky)");
+        return gaussian_log_pdf_chol(L, x);
+      },
+      py::arg("L"), py::arg("x"), "log N(x; 0, S) from the lower Cholesky factor L of S (m, m) and x (m,).");
+  m.def(
+      "is_spd", [](const MatX& A, double rel_tol) { return is_spd(A, rel_tol); }, py::arg("A"),
+      py::arg("rel_tol") = 1e-9,
+      "True when A is square, finite, symmetric to rel_tol (relative to its largest entry) and positive "
+      "definite: the check set_belief applies to a covariance.");
   m.attr("SPEED_OF_LIGHT") = kSpeedOfLight;
 }

@@ -418,6 +418,13 @@ void bind_rbpf(py::module_& m) {
         .def_property_readonly(
             "scheme", [](const A& a) { return a.visit([](const auto& f) { return f.scheme(); }); },
             "The sigma-point scheme.")
+        .def_property_readonly(
+            "motion", [](const A& a) { return a.visit([](const auto& f) { return py::cast(f.motion()); }); },
+            "The motion model (a copy).")
+        .def_property_readonly(
+            "dim",
+            [](const A& a) { return a.visit([](const auto& f) { return std::decay_t<decltype(f)>::kDim; }); },
+            "Size n of the state.")
         .def("predict", [](A& a) { a.visit([](auto& f) { f.predict(); }); })
         .def(
             "update_with_probabilities",
@@ -486,6 +493,39 @@ void bind_rbpf(py::module_& m) {
   m.def(
       "situation_count", [](int nz, int B) { return situation_count(nz, B); }, py::arg("num_conditions"),
       py::arg("num_anchors"), "N_z^B (0 when above 2^62).");
+  m.def(
+      "encode_situation",
+      [](const py::object& sight, int nz) {
+        const VecXi v = bind::to_sight(sight);
+        NLOSLOC_ENSURE(nz >= 1, "num_conditions: expected an integer >= 1, got " + std::to_string(nz));
+        NLOSLOC_ENSURE(situation_count(nz, static_cast<int>(v.size())) != 0,
+                       "sight: " + std::to_string(v.size()) + " anchors with " + std::to_string(nz) +
+                           " conditions have more than 2^62 situations (no key)");
+        for (Eigen::Index b = 0; b < v.size(); ++b)
+          NLOSLOC_ENSURE(v[b] >= 0 && v[b] < nz, "sight: expected conditions in [0, " + std::to_string(nz) +
+                                                     "), got " + std::to_string(v[b]) + " at anchor " +
+                                                     std::to_string(b));
+        return encode_situation(v, nz);
+      },
+      py::arg("sight"), py::arg("num_conditions"),
+      "Key of a situation vector (B,) of conditions in [0, N_z): its base-N_z digits, anchor 0 least "
+      "significant (the keys of merge_greedy and of the RBPF's particles).");
+  m.def(
+      "decode_situation",
+      [](const bind::UInt64Arg& key_arg, int nz, int B) {
+        const std::uint64_t key = key_arg.get("key");
+        const std::uint64_t count = situation_count(nz, B);  // checks nz >= 1, B >= 0
+        NLOSLOC_ENSURE(count != 0, "num_anchors: " + std::to_string(B) + " anchors with " +
+                                       std::to_string(nz) +
+                                       " conditions have more than 2^62 situations (no key)");
+        NLOSLOC_ENSURE(key < count, "key: expected a key below N_z^B = " + std::to_string(count) + ", got " +
+                                        std::to_string(key));
+        VecXi s(B);
+        decode_situation(key, nz, s);
+        return s;
+      },
+      py::arg("key"), py::arg("num_conditions"), py::arg("num_anchors"),
+      "The situation vector (B,) of a key (inverse of encode_situation).");
   m.def("pf_simd_lanes", &pf_simd_lanes,
         "Doubles per SIMD packet in ParticleFilter's inner loops for this build of the module: 2 on x86-64 "
         "by default, 4 (AVX, AVX2) or 8 (AVX-512) when built with -Ccmake.define.NLOSLOC_NATIVE=ON on such a "

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BatchRng', 'CholeskyStatus', 'NumericalError', 'Rng', 'SPEED_OF_LIGHT', 'SigmaScheme', 'SigmaWeights', 'log_sum_exp', 'robust_cholesky', 'sigma_points', 'wrap_angle']
+__all__: list[str] = ['BatchRng', 'CholeskyStatus', 'NumericalError', 'Rng', 'SPEED_OF_LIGHT', 'SigmaScheme', 'SigmaWeights', 'gaussian_log_pdf_chol', 'is_spd', 'log_normalize', 'log_sum_exp', 'robust_cholesky', 'sigma_points', 'wrap_angle']
 class NumericalError(RuntimeError):
     """
     Raised when a step cannot be completed numerically (a covariance that is not positive definite even with the Cholesky fallback). The filter keeps the belief it had before the call.
@@ -30,13 +30,23 @@ class Rng:
         """
         Advances the generator by 2^128 draws (xoshiro256 jump): non-overlapping subsequences.
         """
+    @typing.overload
     def normal(self) -> float:
         """
         Standard normal draw.
         """
+    @typing.overload
+    def normal(self, mu: typing.SupportsFloat | typing.SupportsIndex, sigma: typing.SupportsFloat | typing.SupportsIndex) -> float:
+        """
+        Normal draw with mean mu and standard deviation sigma.
+        """
     def normals(self, n: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
         """
         Array of `n` standard normal draws, shape (n,).
+        """
+    def reseed(self, seed: int, stream: int = 0) -> None:
+        """
+        Restarts the generator as Rng(seed, stream) would (in place, e.g. the rng a Monte Carlo estimator is given).
         """
     def state(self) -> typing.Annotated[list[int], "FixedSize(4)"]:
         """
@@ -243,6 +253,18 @@ class CholeskyStatus:
     @property
     def value(self) -> int:
         ...
+def gaussian_log_pdf_chol(L: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> float:
+    """
+    log N(x; 0, S) from the lower Cholesky factor L of S (m, m) and x (m,).
+    """
+def is_spd(A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], rel_tol: typing.SupportsFloat | typing.SupportsIndex = 1e-09) -> bool:
+    """
+    True when A is square, finite, symmetric to rel_tol (relative to its largest entry) and positive definite: the check set_belief applies to a covariance.
+    """
+def log_normalize(v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], float]:
+    """
+    Log weights normalised so that sum(exp) = 1, and the normaliser log_sum_exp(v): a tuple (v - z, z) (v unchanged when z is not finite).
+    """
 def log_sum_exp(v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> float:
     """
     log(sum(exp(v))) computed stably; -inf for empty input.

@@ -10,7 +10,7 @@ import nlosloc._core.situation
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfStepInfo', 'RbpfVariant', 'default_merge_threshold', 'merge_greedy', 'pf_simd_lanes', 'situation_count', 'systematic_resample']
+__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfStepInfo', 'RbpfVariant', 'decode_situation', 'default_merge_threshold', 'encode_situation', 'merge_greedy', 'pf_simd_lanes', 'situation_count', 'systematic_resample']
 class RbpfVariant:
     """
     Order of the RBPF iteration.
@@ -454,6 +454,11 @@ class Iukf:
         Covariance (n, n) of the posterior (moment-matched mixture, eq. 27).
         """
     @property
+    def dim(self) -> int:
+        """
+        Size n of the state.
+        """
+    @property
     def estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         State estimate (n,) (Huerta eq. 28 for the RBPF).
@@ -472,6 +477,11 @@ class Iukf:
         The measurement stack (a copy).
         """
     @property
+    def motion(self) -> typing.Any:
+        """
+        The motion model (a copy).
+        """
+    @property
     def scheme(self) -> nlosloc._core.core.SigmaScheme:
         """
         The sigma-point scheme.
@@ -486,9 +496,17 @@ class Iukf:
         """
         Time of the estimate (s).
         """
+def decode_situation(key: int, num_conditions: typing.SupportsInt | typing.SupportsIndex, num_anchors: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+    """
+    The situation vector (B,) of a key (inverse of encode_situation).
+    """
 def default_merge_threshold(position_variance: typing.SupportsFloat | typing.SupportsIndex, num_particles: typing.SupportsInt | typing.SupportsIndex) -> float:
     """
     d_min = sigma^2 / (10 M), Huerta eq. (31).
+    """
+def encode_situation(sight: typing.Any, num_conditions: typing.SupportsInt | typing.SupportsIndex) -> int:
+    """
+    Key of a situation vector (B,) of conditions in [0, N_z): its base-N_z digits, anchor 0 least significant (the keys of merge_greedy and of the RBPF's particles).
     """
 def merge_greedy(keys: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], d_min: typing.SupportsFloat | typing.SupportsIndex, with_pairs: bool = False) -> tuple:
     """

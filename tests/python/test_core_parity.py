@@ -1,0 +1,104 @@
+"""Python forms of C++ core and RBPF helpers: Rng.reseed / normal(mu, sigma), log_normalize,
+gaussian_log_pdf_chol, is_spd, encode/decode_situation, Iukf.motion / dim."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+from scipy import special, stats
+
+from nlosloc import core, models, noise, rbpf, situation
+
+
+def test_rng_reseed_and_scaled_normal() -> None:
+    r = core.Rng(1, 2)
+    r.normal()
+    r.reseed(7, 3)
+    fresh = core.Rng(7, 3)
+    assert [r() for _ in range(5)] == [fresh() for _ in range(5)]
+    a, b = core.Rng(9), core.Rng(9)
+    assert a.normal(2.0, 3.0) == 2.0 + 3.0 * b.normal()
+    assert a.normal(2.0, 0.0) == 2.0
+    with pytest.raises(ValueError, match="sigma: expected a finite standard deviation >= 0"):
+        a.normal(0.0, -1.0)
+    with pytest.raises(ValueError, match="mu: expected a finite mean"):
+        a.normal(np.inf, 1.0)
+    with pytest.raises(ValueError, match=r"stream: expected an integer in \[0, 2\*\*64 - 1\]"):
+        a.reseed(1, -1)
+
+
+def test_log_normalize_against_scipy() -> None:
+    v = np.array([-1.0, 2.0, -np.inf, 0.5])
+    out, z = core.log_normalize(v)
+    assert z == pytest.approx(special.logsumexp(v), abs=1e-12)
+    np.testing.assert_allclose(out, v - special.logsumexp(v), atol=1e-12)
+    assert np.exp(out).sum() == pytest.approx(1.0, abs=1e-12)
+    np.testing.assert_array_equal(v, [-1.0, 2.0, -np.inf, 0.5])  # the input is not modified
+    dead = np.full(3, -np.inf)
+    out, z = core.log_normalize(dead)
+    assert z == -np.inf
+    np.testing.assert_array_equal(out, dead)
+
+
+def test_gaussian_log_pdf_chol_against_scipy() -> None:
+    S = np.array([[4.0, 1.0, 0.5], [1.0, 3.0, 0.2], [0.5, 0.2, 2.0]])
+    x = np.array([0.3, -1.2, 2.0])
+    L = np.linalg.cholesky(S)
+    expected = stats.multivariate_normal(np.zeros(3), S).logpdf(x)
+    assert core.gaussian_log_pdf_chol(L, x) == pytest.approx(expected, abs=1e-12)
+    with pytest.raises(ValueError, match="L: expected shape"):
+        core.gaussian_log_pdf_chol(L[:2, :2], x)
+    with pytest.raises(ValueError, match="L: expected a lower-triangular Cholesky factor"):
+        core.gaussian_log_pdf_chol(L.T, x)
+    with pytest.raises(ValueError, match="L: expected a lower-triangular Cholesky factor"):
+        core.gaussian_log_pdf_chol(-L, x)
+
+
+def test_is_spd() -> None:
+    S = np.array([[4.0, 1.0], [1.0, 3.0]])
+    assert core.is_spd(S)
+    assert not core.is_spd(np.array([[1.0, 2.0], [2.0, 1.0]]))  # indefinite
+    assert not core.is_spd(np.array([[4.0, 1.0], [1.1, 3.0]]))  # not symmetric
+    assert core.is_spd(np.array([[4.0, 1.0], [1.1, 3.0]]), rel_tol=0.1)
+    assert not core.is_spd(np.ones((2, 3)))
+    assert not core.is_spd(np.array([[np.nan, 0.0], [0.0, 1.0]]))
+
+
+def test_situation_keys() -> None:
+    # base-N_z digits, anchor 0 least significant
+    assert rbpf.encode_situation([1, 0, 1], 2) == 1 + 0 * 2 + 1 * 4
+    assert rbpf.encode_situation([2, 1], 3) == 2 + 1 * 3
+    np.testing.assert_array_equal(rbpf.decode_situation(5, 2, 3), [1, 0, 1])
+    for s in itertools.product(range(3), repeat=3):
+        key = rbpf.encode_situation(list(s), 3)
+        np.testing.assert_array_equal(rbpf.decode_situation(key, 3, 3), s)
+    assert sorted(
+        rbpf.encode_situation(list(s), 3) for s in itertools.product(range(3), repeat=3)
+    ) == list(range(27))
+    with pytest.raises(
+        ValueError, match=r"sight: expected conditions in \[0, 2\), got 2 at anchor 1"
+    ):
+        rbpf.encode_situation([0, 2], 2)
+    with pytest.raises(ValueError, match="num_conditions: expected an integer >= 1, got 0"):
+        rbpf.encode_situation([0], 0)
+    with pytest.raises(ValueError, match="more than 2\\^62 situations"):
+        rbpf.encode_situation([0] * 63, 2)
+    with pytest.raises(ValueError, match="key: expected a key below N_z\\^B = 8, got 8"):
+        rbpf.decode_situation(8, 2, 3)
+    with pytest.raises(ValueError, match=r"key: expected an integer in \[0, 2\*\*64 - 1\]"):
+        rbpf.decode_situation(-1, 2, 3)
+
+
+def test_iukf_motion_and_dim() -> None:
+    motion = models.ConstantVelocityClock2(0.01, 1.0, 1e-2)
+    meas = models.MeasurementStack(models.ConstantVelocityClock2.layout(), np.eye(2) * 1000.0, 2)
+    for b in range(2):
+        meas.add_rtoa(b, [noise.Normal(0.0, 3.0), noise.Rayleigh.from_variance(5000.0)])
+    sight = situation.SightProcess(situation.SightModel.speed_dependent(10.0, 10.0, 0.01), 2)
+    quality = situation.QualityModel([noise.Beta(4.0, 1.5), noise.Beta(1.5, 4.0)])
+    f = rbpf.Iukf(motion, meas, sight, quality, np.zeros(6), np.eye(6))
+    assert f.dim == 6
+    assert isinstance(f.motion, models.ConstantVelocityClock2)
+    np.testing.assert_array_equal(f.motion.F, motion.F)
