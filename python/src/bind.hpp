@@ -26,13 +26,15 @@ void bind_mitigation(pybind11::module_& m);
 void bind_bounds(pybind11::module_& m);
 /// nlosloc.filters: KF, EKF, UKF (bind_filters.cpp); the IUKF, RBPF and PF are in nlosloc.rbpf.
 void bind_filters(pybind11::module_& m);
-/// nlosloc.sim: trajectories, scenarios, Monte Carlo runner, metrics (bind_sim.cpp), which calls the two
+/// nlosloc.sim: trajectories, scenarios, Monte Carlo runner, metrics (bind_sim.cpp), which calls the three
 /// below after it has registered Scenario.
 void bind_sim(pybind11::module_& m);
 /// nlosloc.sim, part 2: K1, K2, K3 and their parameters, the K2 study (bind_sim_ke_wu.cpp).
 void bind_sim_ke_wu(pybind11::module_& m);
 /// nlosloc.sim, part 3: summaries, text tables, estimator_seed, percentile (bind_sim_report.cpp).
 void bind_sim_report(pybind11::module_& m);
+/// nlosloc.sim, part 4: CustomScenario, a scenario defined in Python (bind_sim_custom.cpp).
+void bind_sim_custom(pybind11::module_& m);
 /// The built-in registry (nlosloc::sim::registry()), defined in bind_sim.cpp: the only file that includes
 /// its inline definition, since every file that does compiles every scenario's estimators (about 140 s).
 const nlosloc::sim::Registry& python_registry();

@@ -289,6 +289,7 @@ void bind_sim(py::module_& m) {
   bind_scenarios(m);
   bind_sim_ke_wu(m);
   bind_sim_report(m);
+  bind_sim_custom(m);
 
   m.def(
       "scenarios", [] { return sim::registry().scenarios(); },

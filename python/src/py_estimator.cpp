@@ -235,7 +235,13 @@ std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
                                                 const std::optional<py::sequence>& estimators) {
   const sim::Scenario& s = *scenario;
   std::vector<sim::EstimatorSpec> specs;
+  const bool has_registered = reg.has_scenario(s.name());
   if (!estimators || py::len(*estimators) == 0) {
+    if (!has_registered)
+      throw py::value_error(
+          "estimators: scenario '" + s.name() +
+          "' has no registered estimators; give Python estimators (name, factory) or filters "
+          "(name, filter)");
     for (const auto& n : reg.estimators(s.name())) specs.push_back(registered(reg, s, n));
     return specs;
   }
@@ -249,6 +255,10 @@ std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
   for (std::size_t i = 0; i < py::len(seq); ++i) {
     const py::object e = seq[i];
     if (py::isinstance<py::str>(e)) {
+      if (!has_registered)
+        throw py::value_error("estimators[" + std::to_string(i) + "]: scenario '" + s.name() +
+                              "' has no registered estimators, got the name " +
+                              py::repr(e).cast<std::string>());
       specs.push_back(registered(reg, s, e.cast<std::string>()));
       continue;
     }

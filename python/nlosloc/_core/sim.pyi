@@ -9,7 +9,7 @@ import nlosloc._core.situation
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['CaseSummary', 'EstimatorSummary', 'H1', 'H1Params', 'H2', 'H2Params', 'K1', 'K1Params', 'K2', 'K2EstimatorStudy', 'K2Params', 'K2Study', 'K3', 'K3Params', 'Scenario', 'default_levels', 'draw', 'ecdf', 'estimator_seed', 'format_choices', 'format_k2_study', 'format_k3_probability', 'format_percentile_table', 'format_table', 'percentile', 'percentiles', 'probability_within', 'rmse_over_time', 'run_k2_study', 'run_monte_carlo', 'scenario_info', 'scenarios', 'summarize']
+__all__: list[str] = ['CaseSummary', 'CustomScenario', 'EstimatorSummary', 'H1', 'H1Params', 'H2', 'H2Params', 'K1', 'K1Params', 'K2', 'K2EstimatorStudy', 'K2Params', 'K2Study', 'K3', 'K3Params', 'Scenario', 'default_levels', 'draw', 'ecdf', 'estimator_seed', 'format_choices', 'format_k2_study', 'format_k3_probability', 'format_percentile_table', 'format_table', 'percentile', 'percentiles', 'probability_within', 'rmse_over_time', 'run_k2_study', 'run_monte_carlo', 'scenario_info', 'scenarios', 'summarize']
 class Scenario:
     """
     A simulation scenario: geometry, measurement stack and a draw() of truth + data.
@@ -991,6 +991,48 @@ class CaseSummary:
     @property
     def wall_seconds(self) -> float:
         ...
+class CustomScenario(Scenario):
+    """
+    A scenario defined in Python: your own simulation, or a recording replayed.
+    
+    It runs wherever a Scenario does (``draw``, ``run_monte_carlo(scenario, ...)``,
+    ``nlosloc.montecarlo.run``, ``summarize`` and the tables) with estimators written in Python and
+    filters of :mod:`nlosloc.filters` (no estimator is registered for it). ``generate`` is called from
+    the runner's worker threads, with the GIL; it must not depend on anything but its arguments if the
+    result is to be the same for any number of threads. Scenario objects of this class do not pickle.
+    """
+    def __init__(self, name: str, measurements: nlosloc._core.models.MeasurementStack, cases: collections.abc.Sequence[str], steps: typing.SupportsInt | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, generate: typing.Any, discard: typing.SupportsInt | typing.SupportsIndex = 0, description: str = '', choices: collections.abc.Sequence[str] = []) -> None:
+        """
+        Parameters
+        ----------
+        name : str
+            Scenario name (not one of the built-in ones).
+        measurements : nlosloc.models.MeasurementStack
+            The stack that generates ``y`` (its rows, anchors, conditions; its layout's state size is the
+            true state's).
+        cases : list of str
+            Case names; ``generate`` receives the index of one.
+        steps : int
+            Default number of steps T of a run (>= 1).
+        dt : float
+            Sampling period (s), > 0.
+        generate : callable
+            ``generate(case_index, steps, rng)`` with ``rng`` a ``core.Rng(seed, run)`` (a copy): returns a
+            dict of ``states`` (T, n), ``positions`` (T, D), ``y`` (T, m; NaN = missing), ``sight``
+            (T, B) integers in [0, N_z), optionally ``quality`` (T, B; NaN when absent), and
+            ``initial_mean`` (n,), ``initial_cov`` (n, n) (the belief every estimator starts from).
+            Checked on every call (ValueError naming the key).
+        discard : int, default 0
+            First samples of every run left out of the statistics (< steps).
+        description : str, optional
+        choices : list of str, optional
+            Values you chose, printed with the tables.
+        """
+    @property
+    def generate(self) -> typing.Any:
+        """
+        The generate callable.
+        """
 def default_levels() -> list[float]:
     """
     Percentile levels reported by default: [50, 67, 90, 95].
