@@ -190,5 +190,15 @@ void bind_models(py::module_& m) {
             return r;
           },
           py::arg("a"), py::arg("b"), "a - b with angle rows wrapped to (-pi, pi].")
-      .def("is_angle", &MeasurementStack::is_angle, py::arg("i"));
+      .def("is_angle", &MeasurementStack::is_angle, py::arg("i"))
+      .def_property_readonly("has_angles", &MeasurementStack::has_angles,
+                             "True when any row is an angle (AOA).")
+      .def(
+          "check_sight",
+          [](const MeasurementStack& st, const py::object& sight) {
+            st.check_sight(bind::to_sight(sight), "sight");
+          },
+          py::arg("sight"),
+          "Raises ValueError unless sight is (B,) integers in [0, num_conditions): the check every filter "
+          "applies to a sight vector.");
 }

@@ -1,5 +1,6 @@
 /// \file bind_sim_custom.cpp
-/// nlosloc.sim.CustomScenario: a scenario defined in Python (its measurement stack, cases, length, period
+/// Tools for scenarios and estimators written in Python: backdate (the registered RBPF and PF's start rule)
+/// and nlosloc.sim.CustomScenario, a scenario defined in Python (its measurement stack, cases, length, period
 /// and a generate(case_index, steps, rng) callable returning the draw's arrays), so Python users run the
 /// Monte Carlo runner, the metrics and the tables on their own simulations or recordings, as C++ users
 /// do with their own sim::Scenario. It runs with Python estimators and filters of nlosloc.filters (no
@@ -13,12 +14,15 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "bind.hpp"
 #include "motion_arg.hpp"
 #include "nlosloc/core/cholesky.hpp"
+#include "nlosloc/sim/h1.hpp"
 #include "nlosloc/sim/scenario.hpp"
 
 namespace py = pybind11;
@@ -149,6 +153,23 @@ std::shared_ptr<CustomScenario> make_custom(const std::string& name, const Measu
 }  // namespace
 
 void bind_sim_custom(py::module_& m) {
+  m.def(
+      "backdate",
+      [](const py::object& motion, const VecX& mean, const MatX& cov) {
+        return std::visit(
+            [&](const auto& mo) {
+              using Mo = std::decay_t<decltype(mo)>;
+              const auto g =
+                  sim::backdate(mo, nlosloc::bind::to_gaussian<Mo::kDim>(mean, cov, "mean", "cov"));
+              return py::make_tuple(VecX(g.mean), MatX(g.cov));
+            },
+            nlosloc::bind::to_motion(motion));
+      },
+      py::arg("motion"), py::arg("mean"), py::arg("cov"),
+      "The belief (mean, cov) one prediction earlier whose prediction is the given one exactly: F^-1 m, "
+      "F^-1 (P - Q) F^-T; the given belief itself when P - Q is not positive definite. A filter that "
+      "predicts before its first update, started from it, sees the draw's initial belief at t_0.");
+
   py::class_<CustomScenario, sim::Scenario, std::shared_ptr<CustomScenario>>(
       m, "CustomScenario",
       R"doc(A scenario defined in Python: your own simulation, or a recording replayed.

@@ -102,3 +102,18 @@ def test_iukf_motion_and_dim() -> None:
     assert f.dim == 6
     assert isinstance(f.motion, models.ConstantVelocityClock2)
     np.testing.assert_array_equal(f.motion.F, motion.F)
+
+
+def test_measurement_stack_check_sight_and_has_angles() -> None:
+    st = models.MeasurementStack(models.ConstantVelocity2.layout(), np.eye(2) * 100.0, 3)
+    st.add_toa(0, [noise.Normal(0.0, 1.0)] * 3)
+    assert not st.has_angles
+    st.add_aoa(1, [noise.Normal(0.0, 0.1)] * 3)
+    assert st.has_angles
+    st.check_sight([0, 2])
+    with pytest.raises(
+        ValueError, match=r"sight: expected conditions in \[0, 3\), got 3 at anchor 1"
+    ):
+        st.check_sight([0, 3])
+    with pytest.raises(ValueError, match="sight: expected shape"):
+        st.check_sight([0, 1, 2])

@@ -158,3 +158,20 @@ def test_what_generate_returns_is_checked() -> None:
     # from the runner's worker threads too
     with pytest.raises(ValueError, match="generate: 'y': missing"):
         sim.run_monte_carlo(broken(y=None), "clean", 4, 1, [("EKF", ekf())], threads=2)
+
+
+def test_backdate_is_undone_by_one_prediction() -> None:
+    mean, cov = np.array([100.0, 50.0, 1.0, -0.5]), np.diag([4.0, 9.0, 0.3, 0.2])
+    m0, P0 = sim.backdate(MOTION, mean, cov)
+    f = filters.Ekf(MOTION, stack(), m0, P0)
+    f.predict()
+    np.testing.assert_allclose(f.mean, mean, atol=1e-12)
+    np.testing.assert_allclose(f.cov, cov, atol=1e-12)
+    assert not np.allclose(m0, mean)
+    # P - Q not positive definite: the belief itself
+    tiny = np.eye(4) * 1e-12
+    m1, P1 = sim.backdate(MOTION, mean, tiny)
+    np.testing.assert_array_equal(m1, mean)
+    np.testing.assert_array_equal(P1, tiny)
+    with pytest.raises(ValueError, match="cov: expected shape"):
+        sim.backdate(MOTION, mean, np.eye(3))

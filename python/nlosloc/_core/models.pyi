@@ -413,6 +413,10 @@ class MeasurementStack:
         """
         Two-way-ranging pair (tau, T) of Grisales eqs. (17)-(20); gamma[z]: NLOS delay distribution of condition z, None for no delay.
         """
+    def check_sight(self, sight: typing.Any) -> None:
+        """
+        Raises ValueError unless sight is (B,) integers in [0, num_conditions): the check every filter applies to a sight vector.
+        """
     def is_angle(self, i: typing.SupportsInt | typing.SupportsIndex) -> bool:
         ...
     def jacobian(self, x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], t: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -442,6 +446,11 @@ class MeasurementStack:
     @property
     def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
+    @property
+    def has_angles(self) -> bool:
+        """
+        True when any row is an angle (AOA).
+        """
     @property
     def layout(self) -> StateLayout:
         ...

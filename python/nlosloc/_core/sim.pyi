@@ -9,7 +9,7 @@ import nlosloc._core.situation
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['CaseSummary', 'CustomScenario', 'EstimatorSummary', 'H1', 'H1Params', 'H2', 'H2Params', 'K1', 'K1Params', 'K2', 'K2EstimatorStudy', 'K2Params', 'K2Study', 'K3', 'K3Params', 'Scenario', 'default_levels', 'draw', 'ecdf', 'estimator_seed', 'format_choices', 'format_k2_study', 'format_k3_probability', 'format_percentile_table', 'format_table', 'percentile', 'percentiles', 'probability_within', 'rmse_over_time', 'run_k2_study', 'run_monte_carlo', 'scenario_info', 'scenarios', 'summarize']
+__all__: list[str] = ['CaseSummary', 'CustomScenario', 'EstimatorSummary', 'H1', 'H1Params', 'H2', 'H2Params', 'K1', 'K1Params', 'K2', 'K2EstimatorStudy', 'K2Params', 'K2Study', 'K3', 'K3Params', 'Scenario', 'backdate', 'default_levels', 'draw', 'ecdf', 'estimator_seed', 'format_choices', 'format_k2_study', 'format_k3_probability', 'format_percentile_table', 'format_table', 'percentile', 'percentiles', 'probability_within', 'rmse_over_time', 'run_k2_study', 'run_monte_carlo', 'scenario_info', 'scenarios', 'summarize']
 class Scenario:
     """
     A simulation scenario: geometry, measurement stack and a draw() of truth + data.
@@ -1033,6 +1033,10 @@ class CustomScenario(Scenario):
         """
         The generate callable.
         """
+def backdate(motion: typing.Any, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+    """
+    The belief (mean, cov) one prediction earlier whose prediction is the given one exactly: F^-1 m, F^-1 (P - Q) F^-T; the given belief itself when P - Q is not positive definite. A filter that predicts before its first update, started from it, sees the draw's initial belief at t_0.
+    """
 def default_levels() -> list[float]:
     """
     Percentile levels reported by default: [50, 67, 90, 95].
