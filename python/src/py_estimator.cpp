@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -160,15 +161,18 @@ class PythonEstimator final : public sim::Estimator {
   std::thread::id owner_ = std::this_thread::get_id();  // the runner makes and drops it on one worker
 };
 
-/// The runner's estimator for a filter object of nlosloc.filters (Ekf, Ukf, UkfAugmented) given in place of a
-/// factory: each worker runs its own copy of the filter as it was when the run started (the Python object is
-/// not touched), natively and without the GIL (sim::GaussianFilterEstimator: the draw's initial belief at
-/// t = 0, update at step 0, predict + update after). False when `h` is no such filter. ValueError naming the
-/// estimator when its state, measurement rows or time step differ from the scenario's.
+/// A copy of a filter object of nlosloc.filters (Ekf, Ukf, UkfAugmented), checked against scenario s, that
+/// makes the runner's native estimators: each call returns a GaussianFilterEstimator over a copy of the
+/// filter as it was when it was given (the Python object is not touched), which runs without the GIL (the
+/// draw's initial belief at t = 0, update at step 0, predict + update after). Null when `h` is no such
+/// filter. ValueError naming the estimator when the filter's state size, measurement rows or time step
+/// differ from the scenario's. With the GIL.
+using NativeMaker = std::function<std::unique_ptr<sim::Estimator>()>;
+
 template <template <class> class F>
-bool native_filter(const py::handle& h, const std::string& name, sim::SightPolicy sight,
-                   const sim::Scenario& s, std::vector<sim::EstimatorSpec>& specs) {
-  if (!py::isinstance<AnyFilter<F>>(h)) return false;
+NativeMaker native_maker(const py::handle& h, const std::string& name, sim::SightPolicy sight,
+                         const sim::Scenario& s) {
+  if (!py::isinstance<AnyFilter<F>>(h)) return nullptr;
   auto proto = std::make_shared<const AnyFilter<F>>(h.cast<const AnyFilter<F>&>());
   proto->visit([&](const auto& f) {
     constexpr int N = std::decay_t<decltype(f)>::kDim;
@@ -186,12 +190,19 @@ bool native_filter(const py::handle& h, const std::string& name, sim::SightPolic
                             " s; scenario " + s.name() + " samples every " +
                             py::repr(py::float_(s.dt())).cast<std::string>() + " s");
   });
-  specs.push_back({name, [name, proto, sight](const sim::Scenario&, int) {
-                     return proto->visit([&](const auto& f) -> std::unique_ptr<sim::Estimator> {
-                       return sim::make_filter_estimator(name, f, sight);
-                     });
-                   }});
-  return true;
+  return [name, proto, sight] {
+    return proto->visit([&](const auto& f) -> std::unique_ptr<sim::Estimator> {
+      return sim::make_filter_estimator(name, f, sight);
+    });
+  };
+}
+
+/// native_maker for any of the three filter families.
+NativeMaker any_native_maker(const py::handle& h, const std::string& name, sim::SightPolicy sight,
+                             const sim::Scenario& s) {
+  if (NativeMaker m = native_maker<EkfT>(h, name, sight, s)) return m;
+  if (NativeMaker m = native_maker<UkfT>(h, name, sight, s)) return m;
+  return native_maker<UkfAugT>(h, name, sight, s);
 }
 
 /// The sight policy of a native filter's entry: "assume_los" (default) or "oracle".
@@ -265,35 +276,43 @@ std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
     const bool tuple_like = py::isinstance<py::tuple>(e) || py::isinstance<py::list>(e);
     const std::size_t len = tuple_like ? py::len(e) : 0;
     const bool named = (len == 2 || len == 3) && py::isinstance<py::str>(e[py::int_(0)]);
-    if (named) {  // (name, filter[, sight]): a filter object of nlosloc.filters, run natively
-      const std::string name = e[py::int_(0)].cast<std::string>();
-      const py::object f = e[py::int_(1)];
-      const sim::SightPolicy sight =
-          len == 3 ? sight_policy(e[py::int_(2)], i) : sim::SightPolicy::kAssumeLos;
-      if (native_filter<EkfT>(f, name, sight, s, specs) || native_filter<UkfT>(f, name, sight, s, specs) ||
-          native_filter<UkfAugT>(f, name, sight, s, specs))
+    const bool callable = named && PyCallable_Check(e[py::int_(1)].ptr()) != 0;
+    const sim::SightPolicy sight =
+        named && len == 3 ? sight_policy(e[py::int_(2)], i) : sim::SightPolicy::kAssumeLos;
+    if (named && !callable) {  // (name, filter[, sight]): a filter object of nlosloc.filters, run natively
+      if (NativeMaker make = any_native_maker(e[py::int_(1)], e[py::int_(0)].cast<std::string>(), sight, s)) {
+        specs.push_back(
+            {e[py::int_(0)].cast<std::string>(), [make](const sim::Scenario&, int) { return make(); }});
         continue;
+      }
     }
-    const bool pair = named && len == 2 && PyCallable_Check(e[py::int_(1)].ptr()) != 0;
-    if (!pair)
+    if (!callable)
       throw py::type_error(
           "estimators[" + std::to_string(i) +
-          "]: expected a registered estimator name (str), a (name, factory) pair with a "
-          "callable factory(scenario, case_index), or a (name, filter[, sight]) tuple with an "
-          "Ekf, Ukf or UkfAugmented of nlosloc.filters, got " +
+          "]: expected a registered estimator name (str), a (name, factory[, sight]) tuple with "
+          "a callable factory(scenario, case_index), or a (name, filter[, sight]) tuple with "
+          "an Ekf, Ukf or UkfAugmented of nlosloc.filters, got " +
           py::repr(e).cast<std::string>());
     const std::string name = e[py::int_(0)].cast<std::string>();
     const SharedObject factory = share(e[py::int_(1)]);
-    specs.push_back(
-        {name,
-         [name, factory, scen, dim, anchors](const sim::Scenario&, int c) -> std::unique_ptr<sim::Estimator> {
-           py::gil_scoped_acquire gil;
-           const py::object obj = (*factory)(*scen, c);
-           if (obj.is_none())
-             throw py::type_error("estimators: the factory of '" + name +
-                                  "' returned None; expected an estimator object");
-           return std::make_unique<PythonEstimator>(name, obj, dim, anchors);
-         }});
+    specs.push_back({name,
+                     [name, factory, scen, dim, anchors, sight](const sim::Scenario& sc,
+                                                                int c) -> std::unique_ptr<sim::Estimator> {
+                       py::gil_scoped_acquire gil;
+                       const py::object obj = (*factory)(*scen, c);
+                       if (obj.is_none())
+                         throw py::type_error("estimators: the factory of '" + name +
+                                              "' returned None; expected an estimator object");
+                       // A filter of nlosloc.filters runs natively (a factory pickles where a filter does
+                       // not: montecarlo.run(executor=...)).
+                       if (NativeMaker make = any_native_maker(obj, name, sight, sc)) return make();
+                       if (sight != sim::SightPolicy::kAssumeLos)
+                         throw py::type_error(
+                             "estimators: the factory of '" + name +
+                             "' returned a Python estimator; a sight policy goes with filters of "
+                             "nlosloc.filters only");
+                       return std::make_unique<PythonEstimator>(name, obj, dim, anchors);
+                     }});
   }
   return specs;
 }

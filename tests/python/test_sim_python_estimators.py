@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import multiprocessing
+from concurrent.futures import ProcessPoolExecutor
+
 import numpy as np
 import pytest
 
@@ -350,6 +353,49 @@ def test_a_filter_that_does_not_fit_the_scenario_is_refused() -> None:
     ):
         run("K1", case, 1, 1, [("f", k1_filter("ekf"), "truth")])
     with pytest.raises(
-        TypeError, match=r"estimators\[0\]: .* or a \(name, filter\[, sight\]\) tuple"
+        TypeError, match="returned a Python estimator; a sight policy goes with filters"
     ):
-        run("K1", case, 1, 1, [("f", PythonEkf, "oracle")])
+        run("K1", case, 1, 1, [("f", PythonEkf, "oracle")], steps=105)
+
+
+def make_k1_ekf(scenario: sim.Scenario, case_index: int) -> filters.Ekf:
+    """A factory that returns a filter (module level: it pickles, where the filter does not)."""
+    return filters.Ekf(scenario.motion, scenario.measurements, np.zeros(4), np.eye(4))
+
+
+def test_a_factory_that_returns_a_filter_runs_it_natively() -> None:
+    entries = ["EKF", ("made", make_k1_ekf), ("made-oracle", make_k1_ekf, "oracle")]
+    res = sim.run_monte_carlo("K1", "2LOS/1NLOS", 4, 7, entries, threads=2, steps=300)
+    e = {k: v["errors"] for k, v in res["estimators"].items()}
+    np.testing.assert_array_equal(e["made"], e["EKF"])
+    oracle = sim.run_monte_carlo(
+        "K1", "2LOS/1NLOS", 4, 7, [("o", k1_filter("ekf"), "oracle")], steps=300
+    )
+    np.testing.assert_array_equal(e["made-oracle"], oracle["estimators"]["o"]["errors"])
+    ctx = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=2, mp_context=ctx) as ex:
+        remote = montecarlo.run(
+            "K1",
+            "2LOS/1NLOS",
+            4,
+            7,
+            entries[1:],
+            threads=1,
+            steps=300,
+            progress=False,
+            executor=ex,
+            chunk_runs=2,
+        )
+    np.testing.assert_array_equal(remote["estimators"]["made"]["errors"], e["made"])
+    np.testing.assert_array_equal(remote["estimators"]["made-oracle"]["errors"], e["made-oracle"])
+    slow = models.ConstantVelocity2(0.5, 1.0, models.VelocityNoise.WhiteAcceleration)
+    with pytest.raises(ValueError, match=r"the filter of 'bad' predicts over dt = 0.5 s"):
+        sim.run_monte_carlo(
+            "K1",
+            "2LOS/1NLOS",
+            2,
+            1,
+            [("bad", lambda s, c: filters.Ekf(slow, s.measurements, np.zeros(4), np.eye(4)))],
+            threads=2,
+            steps=105,
+        )

@@ -1247,7 +1247,9 @@ def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.Supp
         ``UkfAugmented`` of :mod:`nlosloc.filters` built for the scenario's model (its state size,
         measurement rows and dt are checked): each worker runs a copy of it natively, without the
         GIL, from the draw's initial belief; ``sight`` is ``"assume_los"`` (default) or
-        ``"oracle"`` (the draw's true sight: a bound, not an estimator).
+        ``"oracle"`` (the draw's true sight: a bound, not an estimator). A factory may return
+        such a filter too (then it runs natively, and ``(name, factory, sight)`` takes a sight
+        policy): a module-level factory pickles where a filter object does not.
     threads : int, default 0
         Worker threads; 0 uses every core.
     steps : int, optional
