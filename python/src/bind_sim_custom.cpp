@@ -24,6 +24,7 @@
 #include "nlosloc/core/cholesky.hpp"
 #include "nlosloc/sim/h1.hpp"
 #include "nlosloc/sim/scenario.hpp"
+#include "py_estimator.hpp"
 
 namespace py = pybind11;
 namespace sim = nlosloc::sim;
@@ -46,10 +47,7 @@ class CustomScenario final : public sim::Scenario {
  public:
   /// With the GIL held.
   CustomScenario(CustomSpec spec, const MeasurementStack& meas, const py::object& generate)
-      : spec_(std::move(spec)), meas_(meas), generate_(new py::object(generate), [](py::object* p) {
-          py::gil_scoped_acquire gil;  // the last owner may be a runner's worker
-          delete p;
-        }) {}
+      : spec_(std::move(spec)), meas_(meas), generate_(nlosloc::bind::share(generate)) {}
 
   std::string name() const override { return spec_.name; }
   std::string description() const override { return spec_.description; }
@@ -125,7 +123,7 @@ class CustomScenario final : public sim::Scenario {
  private:
   CustomSpec spec_;
   MeasurementStack meas_;
-  std::shared_ptr<py::object> generate_;
+  nlosloc::bind::SharedObject generate_;  // the last owner may be a runner's worker
 };
 
 std::shared_ptr<CustomScenario> make_custom(const std::string& name, const MeasurementStack& meas,

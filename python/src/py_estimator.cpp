@@ -29,16 +29,6 @@ namespace nlosloc::bind {
 
 namespace {
 
-/// A Python object shared by the runner's workers: copying the pointer touches no Python reference count,
-/// and the last owner drops the object with the GIL taken, on whatever thread it is.
-using SharedObject = std::shared_ptr<py::object>;
-SharedObject share(py::object o) {
-  return SharedObject(new py::object(std::move(o)), [](py::object* p) {
-    py::gil_scoped_acquire gil;
-    delete p;
-  });
-}
-
 /// A contiguous vector as a new numpy array (the estimator may keep it: it owns its copy).
 py::array_t<double> vector_array(const Eigen::Ref<const VecX>& v) {
   py::array_t<double> a(static_cast<py::ssize_t>(v.size()));
@@ -279,10 +269,10 @@ std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
     const bool callable = named && PyCallable_Check(e[py::int_(1)].ptr()) != 0;
     const sim::SightPolicy sight =
         named && len == 3 ? sight_policy(e[py::int_(2)], i) : sim::SightPolicy::kAssumeLos;
+    const std::string name = named ? e[py::int_(0)].cast<std::string>() : std::string();
     if (named && !callable) {  // (name, filter[, sight]): a filter object of nlosloc.filters, run natively
-      if (NativeMaker make = any_native_maker(e[py::int_(1)], e[py::int_(0)].cast<std::string>(), sight, s)) {
-        specs.push_back(
-            {e[py::int_(0)].cast<std::string>(), [make](const sim::Scenario&, int) { return make(); }});
+      if (NativeMaker make = any_native_maker(e[py::int_(1)], name, sight, s)) {
+        specs.push_back({name, [make](const sim::Scenario&, int) { return make(); }});
         continue;
       }
     }
@@ -293,7 +283,6 @@ std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
           "a callable factory(scenario, case_index), or a (name, filter[, sight]) tuple with "
           "an Ekf, Ukf or UkfAugmented of nlosloc.filters, got " +
           py::repr(e).cast<std::string>());
-    const std::string name = e[py::int_(0)].cast<std::string>();
     const SharedObject factory = share(e[py::int_(1)]);
     specs.push_back({name,
                      [name, factory, scen, dim, anchors, sight](const sim::Scenario& sc,

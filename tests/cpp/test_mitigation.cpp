@@ -24,6 +24,15 @@ Gaussian<4> belief_at(double x, double y) {
   return g;
 }
 ConstantVelocity2 motion() { return ConstantVelocity2(0.1, 1.0, VelocityNoise::kWhiteAcceleration); }
+/// set_belief refuses a non-finite time and a belief that is not positive definite (naming them).
+template <class Filter>
+void check_set_belief_refusals(Filter& f, const Gaussian<4>& b, const Gaussian<4>& bad) {
+  CHECK_THROWS_AS(f.set_belief(b, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+  CHECK_THROWS_WITH(f.set_belief(b, std::numeric_limits<double>::infinity()),
+                    Catch::Matchers::Contains("t: expected a finite time"));
+  CHECK_THROWS_AS(f.set_belief(bad), std::invalid_argument);
+  CHECK_THROWS_WITH(f.set_belief(bad, 1.0), Catch::Matchers::Contains("belief"));
+}
 double qp_objective(const MatX& L, const MatX& Sg, const VecX& r, const VecX& b) {
   const VecX e = r - L * b;
   return e.dot(Sg * e);  // eq. (14) objective with the generalised inverse of Sigma_v
@@ -437,11 +446,7 @@ TEST_CASE("set_belief(b) keeps the time, set_belief(b, t) sets it: bias-augmente
     CHECK(f.kinematic_mean() == b.mean);
     CHECK(MatX(f.cov().topLeftCorner(4, 4)) == MatX(b.cov));
     const VecX x0 = f.mean();
-    CHECK_THROWS_AS(f.set_belief(b, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
-    CHECK_THROWS_WITH(f.set_belief(b, std::numeric_limits<double>::infinity()),
-                      Catch::Matchers::Contains("t: expected a finite time"));
-    CHECK_THROWS_AS(f.set_belief(bad), std::invalid_argument);
-    CHECK_THROWS_WITH(f.set_belief(bad, 1.0), Catch::Matchers::Contains("belief"));
+    check_set_belief_refusals(f, b, bad);
     CHECK(f.time() == 7.25);
     CHECK(f.mean() == x0);
   }
@@ -467,11 +472,7 @@ TEST_CASE("set_belief(b) keeps the time, set_belief(b, t) sets it: bias-augmente
     CHECK(f.time() == 7.25);
     CHECK(f.mean() == b.mean);
     CHECK(f.cov() == b.cov);
-    CHECK_THROWS_AS(f.set_belief(b, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
-    CHECK_THROWS_WITH(f.set_belief(b, std::numeric_limits<double>::infinity()),
-                      Catch::Matchers::Contains("t: expected a finite time"));
-    CHECK_THROWS_AS(f.set_belief(bad), std::invalid_argument);
-    CHECK_THROWS_WITH(f.set_belief(bad, 1.0), Catch::Matchers::Contains("belief"));
+    check_set_belief_refusals(f, b, bad);
     CHECK(f.time() == 7.25);
     CHECK(f.mean() == b.mean);
   }
