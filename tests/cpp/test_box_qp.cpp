@@ -6,6 +6,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "nlosloc/mitigation/box_qp_enumeration.hpp"
 #include "nlosloc/mitigation/box_qp_proxsuite.hpp"
@@ -171,4 +172,97 @@ TEST_CASE("enumeration box QP: warm start, defaults and argument checks", "[miti
   CHECK_THROWS_WITH(qp.solve(p.H.topLeftCorner(5, 5), p.g, p.lower, p.upper), Catch::Matchers::Contains("H"));
   // a rejected call leaves the last minimiser
   CHECK(qp.x() == x);
+}
+
+TEST_CASE("box QP clone: an independent solver that solves as the original would", "[mitigation][qp]") {
+  std::mt19937_64 rng(11);
+  const Problem a = random_problem(rng, 5, 3), b = random_problem(rng, 5, 5);  // singular, definite
+  std::vector<std::unique_ptr<BoxQp>> solvers;
+  solvers.push_back(std::make_unique<EnumerationBoxQp>(5));
+  solvers.push_back(std::make_unique<FailingBoxQp>(5));
+  if (have_proxsuite_box_qp()) solvers.push_back(make_proxsuite_box_qp(5));
+  for (auto& q : solvers) {
+    INFO(q->name());
+    q->solve(a.H, a.g, a.lower, a.upper);  // state (the enumeration's last active set) from problem a
+    const std::unique_ptr<BoxQp> c = q->clone();
+    REQUIRE(c != nullptr);
+    CHECK(c->name() == q->name());
+    CHECK(c->size() == 5);
+    CHECK(c->x() == q->x());  // the last minimiser comes along
+    const QpResult rq = q->solve(b.H, b.g, b.lower, b.upper), rc = c->solve(b.H, b.g, b.lower, b.upper);
+    CHECK(rc.status == rq.status);
+    CHECK(rc.iterations == rq.iterations);
+    CHECK(c->x() == q->x());
+    // independent: solving a again on the clone leaves the original's minimiser of b
+    const VecX xb = q->x();
+    c->solve(a.H, a.g, a.lower, a.upper);
+    CHECK(q->x() == xb);
+  }
+}
+
+namespace {
+/// A solver written before BoxQp::clone() existed: the default clone() returns null.
+class NoCloneQp final : public BoxQp {
+ public:
+  explicit NoCloneQp(int n) : x_(VecX::Zero(n)) {}
+  int size() const override { return static_cast<int>(x_.size()); }
+  std::string name() const override { return "no-clone"; }
+  const VecX& x() const override { return x_; }
+  QpResult solve(const Eigen::Ref<const MatX>&, const Eigen::Ref<const VecX>&, const Eigen::Ref<const VecX>&,
+                 const Eigen::Ref<const VecX>& upper) override {
+    x_ = upper;  // any feasible point will do here
+    QpResult r;
+    r.status = QpStatus::kSolved;
+    return r;
+  }
+
+ private:
+  VecX x_;
+};
+}  // namespace
+
+TEST_CASE("QpBiasEkf copies: an independent tracker with its own solver, or a clear refusal",
+          "[mitigation][qp]") {
+  const MatX anchors = (MatX(4, 2) << 0, 0, 20, 0, 0, 20, 20, 20).finished();
+  Gaussian<4> g0;
+  g0.mean << 8, 6, 1, 0;
+  g0.cov = Mat<4, 4>::Identity();
+  const ConstantVelocity2 mo(0.1, 1.0, VelocityNoise::kWhiteAcceleration);
+  QpBiasEkfOptions o;
+  o.always_estimate = true;
+  auto ranges = [&](int k) {
+    VecX z(4);
+    const Vec<2> p(8.0 + 0.1 * k, 6.0);
+    for (int i = 0; i < 4; ++i) z[i] = (anchors.row(i).transpose() - p).norm() + (i == 1 ? 4.0 : 0.0);
+    return z;
+  };
+  QpBiasEkf f(mo, anchors, g0, o);
+  f.update(ranges(0));
+  QpBiasEkf c(f);
+  CHECK(&c.bias_estimator().solver() != &f.bias_estimator().solver());
+  CHECK(c.bias_estimator().solver().name() == "enumeration");
+  for (int k = 1; k <= 5; ++k) {
+    f.step(ranges(k));
+    c.step(ranges(k));
+    CHECK(c.mean() == f.mean());
+    CHECK(c.cov() == f.cov());
+    CHECK(c.bias() == f.bias());
+    CHECK(c.nlos_detected() == f.nlos_detected());
+  }
+  const Vec<4> before = f.mean();
+  c.step(ranges(6));  // the copy moves on alone
+  CHECK(f.mean() == before);
+  // Assignment copies as well.
+  QpBiasEkf d(mo, anchors, g0, o);
+  d = f;
+  d.step(ranges(6));
+  CHECK(d.mean() == c.mean());
+  // A solver without clone(): the copy is refused, naming it; an assignment leaves the target as it was.
+  QpBiasEkf n(mo, anchors, g0, o, std::make_unique<NoCloneQp>(4));
+  CHECK_THROWS_WITH(QpBiasEkf(n), Catch::Matchers::Contains("solver: the BoxQp 'no-clone' cannot be copied"));
+  CHECK_THROWS_AS(d = n, std::invalid_argument);
+  CHECK(d.mean() == c.mean());
+  CHECK(d.bias_estimator().solver().name() == "enumeration");
+  QpBiasEkf moved(std::move(n));  // moving needs no clone
+  CHECK(moved.bias_estimator().solver().name() == "no-clone");
 }

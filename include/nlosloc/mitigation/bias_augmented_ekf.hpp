@@ -88,6 +88,7 @@ class BiasAugmentedEkf {
   int state_dim() const { return n_; }
   const MatX& anchors() const { return anchors_; }
   const BiasAugmentedEkfOptions& options() const { return opt_; }
+  const ConstantVelocity2& motion() const { return motion_; }
   /// Full state [x, y, vx, vy, b_1 .. b_M] and its covariance.
   const VecX& mean() const { return x_; }
   const MatX& cov() const { return P_; }

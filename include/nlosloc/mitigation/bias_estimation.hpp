@@ -196,7 +196,8 @@ struct BiasEstimate {
 };
 
 /// Ke & Wu Sec. 3 for a fixed set of M >= 3 anchors: buffers and the QP solver are set up once at
-/// construction; estimate() does not allocate (beyond what the QP solver does inside).
+/// construction; estimate() does not allocate (beyond what the QP solver does inside). A copy gets its own
+/// solver through BoxQp::clone() (std::invalid_argument naming the solver when it has none).
 class BiasEstimator {
  public:
   /// anchors M x 2 (M >= 3, finite, distinct); solver: a BoxQp of size M (default make_box_qp(M)).
@@ -205,7 +206,7 @@ class BiasEstimator {
     nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
     NLOSLOC_ENSURE(M_ >= 3, "anchors: expected at least 3 anchors (rows), got " + std::to_string(M_));
     nlosloc::detail::ensure_finite(anchors, "anchors");
-    solver_ = solver ? std::move(solver) : make_box_qp(M_);
+    solver_ = BoxQpHandle(solver ? std::move(solver) : make_box_qp(M_));
     NLOSLOC_ENSURE(solver_->size() == M_, "solver: expected a BoxQp of size " + std::to_string(M_) +
                                               " (one variable per anchor), got " +
                                               std::to_string(solver_->size()));
@@ -234,6 +235,16 @@ class BiasEstimator {
     est_.lower.setZero(M_);
     est_.upper.setZero(M_);
   }
+
+  BiasEstimator(const BiasEstimator&) = default;
+  BiasEstimator(BiasEstimator&&) noexcept = default;
+  BiasEstimator& operator=(BiasEstimator&&) noexcept = default;
+  /// Copy and swap: a solver that cannot be cloned leaves this estimator unchanged.
+  BiasEstimator& operator=(const BiasEstimator& o) {
+    if (this != &o) *this = BiasEstimator(o);
+    return *this;
+  }
+  ~BiasEstimator() = default;
 
   int size() const { return M_; }
   const MatX& anchors() const { return anchors_; }
@@ -440,7 +451,7 @@ class BiasEstimator {
 
   MatX anchors_;
   int M_;
-  std::unique_ptr<BoxQp> solver_;
+  BoxQpHandle solver_;
   double sparsity_ = 0.0;
   double soft_threshold_ = 0.0;
   MatX l_;  ///< l_ij, anchor distances (eq. 15)

@@ -7,7 +7,9 @@
 /// inject their own implementations (e.g. one that always fails, to exercise the callers' fallbacks).
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "nlosloc/core/types.hpp"
 
@@ -69,6 +71,45 @@ class BoxQp {
   virtual const VecX& x() const = 0;
   /// Short solver name ("proxsuite-dense", ...).
   virtual std::string name() const = 0;
+  /// An independent solver that solves every later problem as this one would (same size, settings and any
+  /// state the result depends on), or null when the solver cannot be copied. BiasEstimator and QpBiasEkf
+  /// copy their solver through it (the Monte Carlo runner copies a tracker per worker). Not pure, so
+  /// solvers written before it still compile; theirs return null and the trackers holding them stay
+  /// move-only in effect (copying throws).
+  virtual std::unique_ptr<BoxQp> clone() const { return nullptr; }
+};
+
+/// Owns a BoxQp and copies it through BoxQp::clone(): what lets BiasEstimator and QpBiasEkf be copied.
+/// Copying a solver whose clone() returns null throws std::invalid_argument naming it (and, assigned,
+/// leaves the target unchanged).
+class BoxQpHandle {
+ public:
+  BoxQpHandle() = default;
+  explicit BoxQpHandle(std::unique_ptr<BoxQp> p) : p_(std::move(p)) {}
+  BoxQpHandle(const BoxQpHandle& o) : p_(clone_of(o)) {}
+  BoxQpHandle& operator=(const BoxQpHandle& o) {
+    if (this != &o) p_ = clone_of(o);  // cloned before p_ changes
+    return *this;
+  }
+  BoxQpHandle(BoxQpHandle&&) noexcept = default;
+  BoxQpHandle& operator=(BoxQpHandle&&) noexcept = default;
+  ~BoxQpHandle() = default;
+
+  BoxQp& operator*() const { return *p_; }
+  BoxQp* operator->() const { return p_.get(); }
+  explicit operator bool() const { return p_ != nullptr; }
+
+ private:
+  static std::unique_ptr<BoxQp> clone_of(const BoxQpHandle& o) {
+    if (!o.p_) return nullptr;
+    std::unique_ptr<BoxQp> c = o.p_->clone();
+    if (!c)
+      throw std::invalid_argument("solver: the BoxQp '" + o.p_->name() +
+                                  "' cannot be copied (its clone() returns null); give each copy its own "
+                                  "solver instead");
+    return c;
+  }
+  std::unique_ptr<BoxQp> p_;
 };
 
 /// A BoxQp that never solves (status kFailed, x = 0): the stand-in when no solver is compiled in, and the
@@ -82,6 +123,7 @@ class FailingBoxQp final : public BoxQp {
   int size() const override { return n_; }
   std::string name() const override { return "failing"; }
   const VecX& x() const override { return x_; }
+  std::unique_ptr<BoxQp> clone() const override { return std::make_unique<FailingBoxQp>(*this); }
   QpResult solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,
                  const Eigen::Ref<const VecX>& lower, const Eigen::Ref<const VecX>& upper) override;
 

@@ -42,6 +42,9 @@ class EnumerationBoxQp final : public BoxQp {
   int size() const override { return n_; }
   std::string name() const override { return "enumeration"; }
   const VecX& x() const override { return x_; }
+  /// A copy, the last active set included (the search starts from it, and on a singular H the vertex
+  /// returned can depend on it).
+  std::unique_ptr<BoxQp> clone() const override { return std::make_unique<EnumerationBoxQp>(*this); }
   const BoxQpSettings& settings() const { return settings_; }
 
   QpResult solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,

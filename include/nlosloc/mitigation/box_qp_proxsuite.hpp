@@ -48,6 +48,14 @@ class ProxsuiteBoxQp final : public BoxQp {
   int size() const override { return n_; }
   std::string name() const override { return "proxsuite-dense"; }
   const VecX& x() const override { return x_; }
+  /// A fresh solver with the same settings and last minimiser: every solve re-initialises proxsuite
+  /// without an initial guess, so nothing else carries over from one problem to the next.
+  std::unique_ptr<BoxQp> clone() const override {
+    auto c = std::make_unique<ProxsuiteBoxQp>(n_, settings_);
+    c->x_ = x_;
+    c->Hx_ = Hx_;
+    return c;
+  }
   const BoxQpSettings& settings() const { return settings_; }
 
   QpResult solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,

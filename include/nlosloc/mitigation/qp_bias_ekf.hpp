@@ -101,7 +101,8 @@ struct MitigationStep {
 
 /// Ke & Wu's EKF with QP NLOS-bias correction and innovation-based NLOS identification, 2-D, M >= 3 TOA
 /// anchors. State S = [x, y, vx, vy] (eq. 16). Buffers and the QP solver are set up at construction; a step
-/// does not allocate (beyond the QP solver's internals). Move-only (owns the solver).
+/// does not allocate (beyond the QP solver's internals). A copy is an independent tracker with its own
+/// solver (BoxQp::clone(); std::invalid_argument naming the solver when it cannot be cloned).
 class QpBiasEkf {
  public:
   static constexpr int kDim = 4;
@@ -131,6 +132,16 @@ class QpBiasEkf {
     ycorr_.setZero(M);
     bias_.setZero(M);
   }
+
+  QpBiasEkf(const QpBiasEkf&) = default;
+  QpBiasEkf(QpBiasEkf&&) noexcept = default;
+  QpBiasEkf& operator=(QpBiasEkf&&) noexcept = default;
+  /// Copy and swap: a solver that cannot be cloned leaves this tracker unchanged.
+  QpBiasEkf& operator=(const QpBiasEkf& o) {
+    if (this != &o) *this = QpBiasEkf(o);
+    return *this;
+  }
+  ~QpBiasEkf() = default;
 
   int num_anchors() const { return bias_est_.size(); }
   const MatX& anchors() const { return bias_est_.anchors(); }

@@ -421,6 +421,9 @@ class ParticleFilter {
   const PfOptions& options() const { return opt_; }
   const Motion& motion() const { return motion_; }
   const Meas& measurements() const { return meas_; }
+  /// The sight chains and quality likelihoods it was built with (what a copy of its set-up needs).
+  const situation::SightProcess& sight_process() const { return sight_; }
+  const situation::QualityModel& quality() const { return quality_; }
   /// Throws the std::invalid_argument step(y, o) would throw for these inputs, and changes nothing: checks
   /// a batch before its first step (the Python run() does).
   void check_inputs(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) const {
