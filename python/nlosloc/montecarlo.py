@@ -53,10 +53,11 @@ def run(
     seed : int, default 1
         Seed; run r draws from ``Rng(seed, r)``.
     estimators : sequence, optional
-        Registered estimator names and ``(name, factory)`` pairs of estimators written in Python
+        Registered estimator names, ``(name, factory)`` pairs of estimators written in Python
         (an object with ``reset(draw, rng)``, ``step(k, y, o) -> position`` and optionally
-        ``sight_estimate()``; see :func:`nlosloc.sim.run_monte_carlo`); default all registered for
-        the scenario.
+        ``sight_estimate()``) and ``(name, filter)`` pairs with a filter, tracker or snapshot
+        baseline object that runs natively (see :func:`nlosloc.sim.run_monte_carlo`); default all
+        registered for the scenario.
     threads : int, default 0
         Worker threads (0 = every core) of each run_monte_carlo call. The result does not depend
         on it. With ``executor``, set it to the cores each of its workers may use.

@@ -328,6 +328,8 @@ void bind_mitigation(pybind11::module_& m) {
           "anchors", [](const BiasAugmentedEkf& f) { return MatX(f.anchors()); }, "(M, 2).")
       .def_property_readonly("options", &BiasAugmentedEkf::options, py::return_value_policy::copy,
                              "The settings (a copy).")
+      .def_property_readonly("motion", &BiasAugmentedEkf::motion, py::return_value_policy::copy,
+                             "The motion model (a copy).")
       .def(
           "set_belief",
           [](BiasAugmentedEkf& f, const VecX& mean, const MatX& cov, std::optional<double> t) {

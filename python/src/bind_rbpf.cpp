@@ -13,6 +13,7 @@
 #include <optional>
 #include <variant>
 
+#include "any_rbpf.hpp"
 #include "batch.hpp"
 #include "bind.hpp"
 #include "int_arg.hpp"
@@ -27,38 +28,11 @@ using namespace nlosloc::rbpf;
 using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 namespace {
+using bind::AnyIukf;
+using bind::AnyPf;
+using bind::AnyRbpf;
+using bind::IukfBox;
 using bind::to_gaussian;
-using bind::to_motion;
-
-/// A (non-copyable) filter F<Motion> for any motion model, owned through unique_ptr.
-template <template <class> class F>
-class Any {
- public:
-  template <class Make>
-  Any(const py::object& motion, Make&& make)
-      : f_(std::visit([&](const auto& mo) -> V { return make(mo); }, to_motion(motion))) {}
-  template <class Fn>
-  decltype(auto) visit(Fn&& fn) {
-    return std::visit([&](auto& p) -> decltype(auto) { return fn(*p); }, f_);
-  }
-  template <class Fn>
-  decltype(auto) visit(Fn&& fn) const {
-    return std::visit([&](const auto& p) -> decltype(auto) { return fn(*p); }, f_);
-  }
-
- private:
-  using V = std::variant<std::unique_ptr<F<ConstantVelocity2>>, std::unique_ptr<F<ConstantVelocity3>>,
-                         std::unique_ptr<F<ConstantVelocityClock2>>,
-                         std::unique_ptr<F<ConstantVelocityClock3>>, std::unique_ptr<F<TwoWayClock>>>;
-  V f_;
-};
-
-template <class M>
-using RbpfT = Rbpf<M>;
-template <class M>
-using PfT = ParticleFilter<M>;
-template <class M>
-using IukfT = Iukf<M>;
 
 /// Runs f.step over the rows of Y, O (GIL released), every row checked first (batch.hpp); returns the
 /// per-step estimates.
@@ -158,6 +132,13 @@ void particle_filter_methods(C& c) {
       .def_property_readonly(
           "motion", [](const A& a) { return a.visit([](const auto& f) { return py::cast(f.motion()); }); },
           "The motion model (a copy).")
+      .def_property_readonly(
+          "sight_process",
+          [](const A& a) { return a.visit([](const auto& f) { return f.sight_process(); }); },
+          "The situation.SightProcess it was built with (a copy).")
+      .def_property_readonly(
+          "quality", [](const A& a) { return a.visit([](const auto& f) { return f.quality(); }); },
+          "The situation.QualityModel it was built with (a copy).")
       .def(
           "reset",
           [](A& a, const VecX& mean, const MatX& cov, double t0) {
@@ -170,16 +151,6 @@ void particle_filter_methods(C& c) {
           "Restarts from N(mean, cov) at time t0 (validated; a rejected call changes nothing).");
 }
 
-// Adapters giving the IUKF the same accessor names as the particle filters.
-template <class M>
-struct IukfBox : Iukf<M> {
-  using Iukf<M>::Iukf;
-  VecX estimate() const { return this->mean(); }
-  MatX covariance() const { return this->cov(); }
-  const MatX& situation_probabilities() const { return this->forward().probabilities(); }
-};
-template <class M>
-using IukfBoxT = IukfBox<M>;
 }  // namespace
 
 void bind_rbpf(py::module_& m) {
@@ -253,7 +224,7 @@ void bind_rbpf(py::module_& m) {
       .def_readonly("merged", &PfStepInfo::merged);
 
   {
-    using A = Any<RbpfT>;
+    using A = AnyRbpf;
     py::class_<A> c(m, "Rbpf",
                     "Rao-Blackwellized particle filter with UKF bank and merge/select (Huerta Sec. V-A/B).");
     c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
@@ -321,7 +292,7 @@ void bind_rbpf(py::module_& m) {
     particle_filter_methods<A>(c);
   }
   {
-    using A = Any<PfT>;
+    using A = AnyPf;
     py::class_<A> c(m, "ParticleFilter",
                     "Joint bootstrap particle filter over (x, s) (Huerta Sec. VI-B, PF).");
     c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
@@ -364,7 +335,7 @@ void bind_rbpf(py::module_& m) {
     particle_filter_methods<A>(c);
   }
   {
-    using A = Any<IukfBoxT>;
+    using A = AnyIukf;
     py::class_<A> c(
         m, "Iukf",
         "Improved UKF (Huerta Table VI, N_z conditions as Grisales eqs. 36-37): per-anchor forward filter "

@@ -385,13 +385,21 @@ estimators : list, optional
     ``sight_estimate()`` (after each step: B integer conditions, 0 = LOS; then its result has
     ``sight_accuracy``). Python estimators hold the GIL while they run, so they run one at a
     time beside the C++ ones; their ``time_per_step_ns`` includes the call overhead. An entry
-    may also be ``(name, filter)`` or ``(name, filter, sight)`` with an ``Ekf``, ``Ukf`` or
-    ``UkfAugmented`` of :mod:`nlosloc.filters` built for the scenario's model (its state size,
-    measurement rows and dt are checked): each worker runs a copy of it natively, without the
-    GIL, from the draw's initial belief; ``sight`` is ``"assume_los"`` (default) or
-    ``"oracle"`` (the draw's true sight: a bound, not an estimator). A factory may return
-    such a filter too (then it runs natively, and ``(name, factory, sight)`` takes a sight
-    policy): a module-level factory pickles where a filter object does not.
+    may also be ``(name, filter)`` with a filter object built for the scenario's model (its
+    state size, measurement rows, anchors and dt are checked), which runs natively, without the
+    GIL, as the registered estimators do: an ``Ekf``, ``Ukf`` or ``UkfAugmented`` of
+    :mod:`nlosloc.filters` (a copy per worker from the draw's initial belief, updated at step 0;
+    ``(name, filter, sight)`` with ``sight`` ``"assume_los"``, the default, or ``"oracle"``,
+    the draw's true sight: a bound, not an estimator); an ``Iukf``, ``Rbpf`` or
+    ``ParticleFilter`` of :mod:`nlosloc.rbpf` (a new filter with the given one's models and
+    options per worker; a ParticleFilter's ``options.seed`` is replaced at every run by a draw
+    from the estimator's own stream); a ``QpBiasEkf`` or ``BiasAugmentedEkf`` of
+    :mod:`nlosloc.mitigation`; ``MleLos``, ``Chen``, ``Cong`` or ``Urruela`` of
+    :mod:`nlosloc.snapshot`. Each starts every run as the registered estimator of its kind
+    does (``sim/h1.hpp``, ``sim/k1.hpp``), so the same set-up gives the same numbers. The object
+    given is not run or changed. A factory may return such an object too (then it runs
+    natively, and ``(name, factory, sight)`` takes a sight policy for the Gaussian filters): a
+    module-level factory pickles where a filter object does not.
 threads : int, default 0
     Worker threads; 0 uses every core.
 steps : int, optional
@@ -418,7 +426,8 @@ ValueError
     estimator's step() or sight_estimate() result of the wrong size.
 TypeError
     On an entry of ``estimators`` that is neither a name, a (name, callable) pair nor a
-    (name, filter[, sight]) tuple, or a factory result without ``reset`` and ``step``. An exception raised inside a Python estimator stops the
+    (name, filter[, sight]) tuple, a sight policy with an object other than a Gaussian filter, or
+    a factory result without ``reset`` and ``step``. An exception raised inside a Python estimator stops the
     run and is raised here.
 )doc");
 

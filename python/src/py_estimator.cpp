@@ -20,14 +20,23 @@
 #include <utility>
 
 #include "any_filter.hpp"
+#include "any_rbpf.hpp"
 #include "nlosloc/core/random.hpp"
 #include "nlosloc/sim/estimators.hpp"
+#include "nlosloc/sim/h1.hpp"
+#include "nlosloc/sim/k1.hpp"
+#include "nlosloc/snapshot/estimator.hpp"
 
 namespace py = pybind11;
 
 namespace nlosloc::bind {
 
 namespace {
+
+/// The objects a (name, filter) entry may hold, for the messages.
+constexpr const char* kNativeTypes =
+    "filters.Ekf, Ukf or UkfAugmented; rbpf.Iukf, Rbpf or ParticleFilter; mitigation.QpBiasEkf or "
+    "BiasAugmentedEkf; snapshot.MleLos, Chen, Cong or Urruela";
 
 /// A contiguous vector as a new numpy array (the estimator may keep it: it owns its copy).
 py::array_t<double> vector_array(const Eigen::Ref<const VecX>& v) {
@@ -151,34 +160,47 @@ class PythonEstimator final : public sim::Estimator {
   std::thread::id owner_ = std::this_thread::get_id();  // the runner makes and drops it on one worker
 };
 
-/// A copy of a filter object of nlosloc.filters (Ekf, Ukf, UkfAugmented), checked against scenario s, that
-/// makes the runner's native estimators: each call returns a GaussianFilterEstimator over a copy of the
-/// filter as it was when it was given (the Python object is not touched), which runs without the GIL (the
-/// draw's initial belief at t = 0, update at step 0, predict + update after). Null when `h` is no such
-/// filter. ValueError naming the estimator when the filter's state size, measurement rows or time step
-/// differ from the scenario's. With the GIL.
+/// What the runner's native estimators are made from: each call returns a new sim::Estimator over a copy of
+/// (or, for the particle filters, a filter built with the set-up of) an object given from Python, as it was
+/// when it was given; the Python object is not touched, and the estimators run without the GIL.
 using NativeMaker = std::function<std::unique_ptr<sim::Estimator>()>;
 
+/// "estimators: the <what> of '<name>' " for the messages.
+std::string who(const std::string& name, const char* what) {
+  return std::string("estimators: the ") + what + " of '" + name + "' ";
+}
+
+std::string repr_double(double v) { return py::repr(py::float_(v)).cast<std::string>(); }
+
+/// ValueError naming the estimator when an object's state size, measurement rows, anchors or time step
+/// differ from scenario s's (dt NaN: not checked, the snapshot solvers have none; anchors -1 likewise).
+void check_fit(const std::string& name, const char* what, int n, Eigen::Index rows, Eigen::Index anchors,
+               double dt, const sim::Scenario& s) {
+  const std::string w = who(name, what);
+  if (n != s.state_dim())
+    throw py::value_error(w + "has a state of " + std::to_string(n) + " components; scenario " + s.name() +
+                          " has " + std::to_string(s.state_dim()));
+  if (rows != s.measurements().rows())
+    throw py::value_error(w + "has " + std::to_string(rows) + " measurement rows; scenario " + s.name() +
+                          " has " + std::to_string(s.measurements().rows()));
+  if (anchors >= 0 && anchors != s.anchors().rows())
+    throw py::value_error(w + "has " + std::to_string(anchors) + " anchors; scenario " + s.name() + " has " +
+                          std::to_string(s.anchors().rows()));
+  if (!std::isnan(dt) && !(std::abs(dt - s.dt()) <= 1e-12 * std::max(1.0, std::abs(s.dt()))))
+    throw py::value_error(w + "predicts over dt = " + repr_double(dt) + " s; scenario " + s.name() +
+                          " samples every " + repr_double(s.dt()) + " s");
+}
+
+/// An Ekf, Ukf or UkfAugmented of nlosloc.filters as a GaussianFilterEstimator (the draw's initial belief at
+/// t = 0, update at step 0, predict + update after). Null when `h` is no such filter.
 template <template <class> class F>
-NativeMaker native_maker(const py::handle& h, const std::string& name, sim::SightPolicy sight,
-                         const sim::Scenario& s) {
+NativeMaker gaussian_maker(const py::handle& h, const std::string& name, sim::SightPolicy sight,
+                           const sim::Scenario& s) {
   if (!py::isinstance<AnyFilter<F>>(h)) return nullptr;
   auto proto = std::make_shared<const AnyFilter<F>>(h.cast<const AnyFilter<F>&>());
   proto->visit([&](const auto& f) {
-    constexpr int N = std::decay_t<decltype(f)>::kDim;
-    const std::string who = "estimators: the filter of '" + name + "' ";
-    if (N != s.state_dim())
-      throw py::value_error(who + "has a state of " + std::to_string(N) + " components; scenario " +
-                            s.name() + " has " + std::to_string(s.state_dim()));
-    if (f.measurements().rows() != s.measurements().rows())
-      throw py::value_error(who + "has " + std::to_string(f.measurements().rows()) +
-                            " measurement rows; scenario " + s.name() + " has " +
-                            std::to_string(s.measurements().rows()));
-    const double dt = f.motion().dt();
-    if (!(std::abs(dt - s.dt()) <= 1e-12 * std::max(1.0, std::abs(s.dt()))))
-      throw py::value_error(who + "predicts over dt = " + py::repr(py::float_(dt)).cast<std::string>() +
-                            " s; scenario " + s.name() + " samples every " +
-                            py::repr(py::float_(s.dt())).cast<std::string>() + " s");
+    check_fit(name, "filter", std::decay_t<decltype(f)>::kDim, f.measurements().rows(), -1, f.motion().dt(),
+              s);
   });
   return [name, proto, sight] {
     return proto->visit([&](const auto& f) -> std::unique_ptr<sim::Estimator> {
@@ -187,15 +209,109 @@ NativeMaker native_maker(const py::handle& h, const std::string& name, sim::Sigh
   };
 }
 
-/// native_maker for any of the three filter families.
-NativeMaker any_native_maker(const py::handle& h, const std::string& name, sim::SightPolicy sight,
-                             const sim::Scenario& s) {
-  if (NativeMaker m = native_maker<EkfT>(h, name, sight, s)) return m;
-  if (NativeMaker m = native_maker<UkfT>(h, name, sight, s)) return m;
-  return native_maker<UkfAugT>(h, name, sight, s);
+/// nlosloc.rbpf.Iukf as a sim::IukfEstimator, Rbpf as a sim::RbpfEstimator (a new filter per estimator,
+/// with the given one's models and options) and ParticleFilter as a sim::PfEstimator (options.seed replaced
+/// by a draw from the estimator's stream at every run, as for the registered PF). Null otherwise.
+NativeMaker rbpf_maker(const py::handle& h, const std::string& name, const sim::Scenario& s) {
+  if (py::isinstance<AnyIukf>(h))
+    return h.cast<const AnyIukf&>().visit([&](const auto& f) -> NativeMaker {
+      using M = std::decay_t<decltype(f.motion())>;
+      check_fit(name, "Iukf", M::kDim, f.measurements().rows(), f.measurements().num_anchors(),
+                f.motion().dt(), s);
+      auto proto = std::make_shared<const Iukf<M>>(f);  // the filter without the Python accessors
+      return [name, proto] { return std::make_unique<sim::IukfEstimator<M>>(name, *proto); };
+    });
+  if (py::isinstance<AnyRbpf>(h))
+    return h.cast<const AnyRbpf&>().visit([&](const auto& f) -> NativeMaker {
+      using M = std::decay_t<decltype(f.motion())>;
+      check_fit(name, "Rbpf", M::kDim, f.measurements().rows(), f.num_anchors(), f.motion().dt(), s);
+      // Rbpf owns a thread pool and is not copyable: each estimator builds one with the same set-up.
+      auto proto = std::make_shared<const std::function<std::unique_ptr<rbpf::Rbpf<M>>()>>(
+          [motion = f.motion(), meas = f.measurements(), sight = f.sight_process(), quality = f.quality(),
+           start = f.belief(), options = f.options()] {
+            return std::make_unique<rbpf::Rbpf<M>>(motion, meas, sight, quality, start, options);
+          });
+      return [name, proto] { return std::make_unique<sim::RbpfEstimator<M>>(name, (*proto)()); };
+    });
+  if (py::isinstance<AnyPf>(h))
+    return h.cast<const AnyPf&>().visit([&](const auto& f) -> NativeMaker {
+      using M = std::decay_t<decltype(f.motion())>;
+      check_fit(name, "ParticleFilter", M::kDim, f.measurements().rows(), f.measurements().num_anchors(),
+                f.motion().dt(), s);
+      return [name, motion = f.motion(), meas = f.measurements(), sight = f.sight_process(),
+              quality = f.quality(), options = f.options()] {
+        return std::make_unique<sim::PfEstimator<M>>(name, motion, meas, sight, quality, options);
+      };
+    });
+  return nullptr;
 }
 
-/// The sight policy of a native filter's entry: "assume_los" (default) or "oracle".
+/// The Ke & Wu trackers of nlosloc.mitigation (QpBiasEkf, BiasAugmentedEkf: state [x, y, vx, vy], one
+/// range row per anchor) as their sim estimators, over a copy. Null otherwise.
+NativeMaker mitigation_maker(const py::handle& h, const std::string& name, const sim::Scenario& s) {
+  auto check = [&](const char* what, int anchors, double dt) {
+    check_fit(name, what, 4, anchors, anchors, dt, s);
+    const StateLayout& L = s.measurements().layout();
+    if (L.position != 0 || L.space_dim != 2 || L.velocity != 2)
+      throw py::value_error(who(name, what) + "tracks [x, y, vx, vy]; scenario " + s.name() +
+                            " has another state layout");
+  };
+  if (py::isinstance<mitigation::QpBiasEkf>(h)) {
+    // copied here, with the GIL: a solver that cannot be cloned is refused now, not on a worker
+    auto proto = std::make_shared<const mitigation::QpBiasEkf>(h.cast<const mitigation::QpBiasEkf&>());
+    check("QpBiasEkf", proto->num_anchors(), proto->motion().dt());
+    return [name, proto] { return std::make_unique<sim::QpBiasEkfEstimator>(name, *proto); };
+  }
+  if (py::isinstance<mitigation::BiasAugmentedEkf>(h)) {
+    auto proto =
+        std::make_shared<const mitigation::BiasAugmentedEkf>(h.cast<const mitigation::BiasAugmentedEkf&>());
+    check("BiasAugmentedEkf", proto->num_anchors(), proto->motion().dt());
+    return [name, proto] { return std::make_unique<sim::BiasAugmentedEkfEstimator>(name, *proto); };
+  }
+  return nullptr;
+}
+
+/// A snapshot baseline of nlosloc.snapshot (MleLos, Chen, Cong, Urruela) as a sim::SnapshotEstimator over
+/// a copy. Null when `h` is none of them.
+template <class Solver>
+NativeMaker snapshot_maker_of(const py::handle& h, const std::string& name, const char* what,
+                              const sim::Scenario& s) {
+  if (!py::isinstance<Solver>(h)) return nullptr;
+  auto proto = std::make_shared<const Solver>(h.cast<const Solver&>());
+  const MeasurementStack& st = proto->solver().stack();
+  check_fit(name, what, st.layout().dim, st.rows(), st.num_anchors(), std::nan(""), s);
+  if (st.layout().space_dim != s.space_dim())
+    throw py::value_error(who(name, what) + "solves for " + std::to_string(st.layout().space_dim) +
+                          "-D positions; scenario " + s.name() + " is " + std::to_string(s.space_dim()) +
+                          "-D");
+  return [name, proto] { return sim::make_snapshot_estimator(name, *proto); };
+}
+
+NativeMaker snapshot_maker(const py::handle& h, const std::string& name, const sim::Scenario& s) {
+  if (NativeMaker m = snapshot_maker_of<snapshot::MleLos>(h, name, "MleLos", s)) return m;
+  if (NativeMaker m = snapshot_maker_of<snapshot::Chen>(h, name, "Chen", s)) return m;
+  if (NativeMaker m = snapshot_maker_of<snapshot::Cong>(h, name, "Cong", s)) return m;
+  return snapshot_maker_of<snapshot::Urruela>(h, name, "Urruela", s);
+}
+
+/// The native estimator of any object above, or null. `sight` (the entry's third item) goes with the
+/// Gaussian filters only: TypeError naming the estimator when given with any other (they estimate sight).
+NativeMaker any_native_maker(const py::handle& h, const std::string& name,
+                             const std::optional<sim::SightPolicy>& sight, const sim::Scenario& s) {
+  const sim::SightPolicy gs = sight.value_or(sim::SightPolicy::kAssumeLos);
+  if (NativeMaker m = gaussian_maker<EkfT>(h, name, gs, s)) return m;
+  if (NativeMaker m = gaussian_maker<UkfT>(h, name, gs, s)) return m;
+  if (NativeMaker m = gaussian_maker<UkfAugT>(h, name, gs, s)) return m;
+  NativeMaker m = rbpf_maker(h, name, s);
+  if (!m) m = mitigation_maker(h, name, s);
+  if (!m) m = snapshot_maker(h, name, s);
+  if (m && sight)
+    throw py::type_error("estimators: '" + name + "' is " + describe(h) +
+                         "; a sight policy goes with an Ekf, Ukf or UkfAugmented of nlosloc.filters only");
+  return m;
+}
+
+/// The sight policy of a native filter's entry: "assume_los" or "oracle".
 sim::SightPolicy sight_policy(const py::handle& h, std::size_t i) {
   if (py::isinstance<py::str>(h)) {
     const auto v = h.cast<std::string>();
@@ -267,8 +383,8 @@ std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
     const std::size_t len = tuple_like ? py::len(e) : 0;
     const bool named = (len == 2 || len == 3) && py::isinstance<py::str>(e[py::int_(0)]);
     const bool callable = named && PyCallable_Check(e[py::int_(1)].ptr()) != 0;
-    const sim::SightPolicy sight =
-        named && len == 3 ? sight_policy(e[py::int_(2)], i) : sim::SightPolicy::kAssumeLos;
+    const std::optional<sim::SightPolicy> sight =
+        named && len == 3 ? std::optional<sim::SightPolicy>(sight_policy(e[py::int_(2)], i)) : std::nullopt;
     const std::string name = named ? e[py::int_(0)].cast<std::string>() : std::string();
     if (named && !callable) {  // (name, filter[, sight]): a filter object of nlosloc.filters, run natively
       if (NativeMaker make = any_native_maker(e[py::int_(1)], name, sight, s)) {
@@ -280,9 +396,9 @@ std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
       throw py::type_error(
           "estimators[" + std::to_string(i) +
           "]: expected a registered estimator name (str), a (name, factory[, sight]) tuple with "
-          "a callable factory(scenario, case_index), or a (name, filter[, sight]) tuple with "
-          "an Ekf, Ukf or UkfAugmented of nlosloc.filters, got " +
-          py::repr(e).cast<std::string>());
+          "a callable factory(scenario, case_index), or a (name, filter[, sight]) tuple with a filter "
+          "(" +
+          std::string(kNativeTypes) + "), got " + py::repr(e).cast<std::string>());
     const SharedObject factory = share(e[py::int_(1)]);
     specs.push_back({name,
                      [name, factory, scen, dim, anchors, sight](const sim::Scenario& sc,
@@ -295,11 +411,11 @@ std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
                        // A filter of nlosloc.filters runs natively (a factory pickles where a filter does
                        // not: montecarlo.run(executor=...)).
                        if (NativeMaker make = any_native_maker(obj, name, sight, sc)) return make();
-                       if (sight != sim::SightPolicy::kAssumeLos)
+                       if (sight)
                          throw py::type_error(
                              "estimators: the factory of '" + name +
-                             "' returned a Python estimator; a sight policy goes with filters of "
-                             "nlosloc.filters only");
+                             "' returned a Python estimator; a sight policy goes with an Ekf, Ukf or "
+                             "UkfAugmented of nlosloc.filters only");
                        return std::make_unique<PythonEstimator>(name, obj, dim, anchors);
                      }});
   }

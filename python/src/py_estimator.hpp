@@ -35,8 +35,11 @@ pybind11::dict draw_to_dict(sim::Draw d);
 ///  - otherwise each entry is a registered name (str) or a pair (name, factory), where
 ///    factory(scenario, case_index) returns an object with reset(draw, rng) and step(k, y, o) -> the (D,)
 ///    position estimate, and optionally sight_estimate() -> (B,) integer conditions.
-///  - or a tuple (name, filter) / (name, filter, sight) with an Ekf, Ukf or UkfAugmented of nlosloc.filters,
-///    which runs natively (a copy per worker, no GIL); sight "assume_los" (default) or "oracle".
+///  - or a tuple (name, filter) with an object that runs natively (no GIL) through the C++ adapter of its
+///    kind: an Ekf, Ukf or UkfAugmented of nlosloc.filters (a copy per worker; (name, filter, sight) with
+///    sight "assume_los", the default, or "oracle"), an Iukf, Rbpf or ParticleFilter of nlosloc.rbpf (a new
+///    filter with its models and options), a QpBiasEkf or BiasAugmentedEkf of nlosloc.mitigation, or a
+///    snapshot baseline (MleLos, Chen, Cong, Urruela); a factory may return one of them too.
 /// TypeError / ValueError naming `estimators` on a malformed entry. Call with the GIL held.
 std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
                                                 const std::shared_ptr<sim::Scenario>& scenario,

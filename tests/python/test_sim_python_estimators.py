@@ -353,7 +353,8 @@ def test_a_filter_that_does_not_fit_the_scenario_is_refused() -> None:
     ):
         run("K1", case, 1, 1, [("f", k1_filter("ekf"), "truth")])
     with pytest.raises(
-        TypeError, match="returned a Python estimator; a sight policy goes with filters"
+        TypeError,
+        match="returned a Python estimator; a sight policy goes with an Ekf, Ukf or UkfAugmented",
     ):
         run("K1", case, 1, 1, [("f", PythonEkf, "oracle")], steps=105)
 

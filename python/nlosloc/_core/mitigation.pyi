@@ -651,6 +651,11 @@ class BiasAugmentedEkf:
         [x, y, vx, vy, b_1..b_M] (a copy).
         """
     @property
+    def motion(self) -> nlosloc._core.models.ConstantVelocity2:
+        """
+        The motion model (a copy).
+        """
+    @property
     def num_anchors(self) -> int:
         ...
     @property

@@ -311,6 +311,16 @@ class Rbpf:
         The settings (a copy).
         """
     @property
+    def quality(self) -> nlosloc._core.situation.QualityModel:
+        """
+        The situation.QualityModel it was built with (a copy).
+        """
+    @property
+    def sight_process(self) -> nlosloc._core.situation.SightProcess:
+        """
+        The situation.SightProcess it was built with (a copy).
+        """
+    @property
     def situation_probabilities(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         (B, N_z) P(s_b = z | data).
@@ -391,6 +401,16 @@ class ParticleFilter:
     def particles(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         (n, M) particle states (a copy).
+        """
+    @property
+    def quality(self) -> nlosloc._core.situation.QualityModel:
+        """
+        The situation.QualityModel it was built with (a copy).
+        """
+    @property
+    def sight_process(self) -> nlosloc._core.situation.SightProcess:
+        """
+        The situation.SightProcess it was built with (a copy).
         """
     @property
     def situation_probabilities(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
