@@ -2,15 +2,17 @@
 /// nlosloc.mitigation: Ke & Wu 2011's box-QP adapter, Sec. 3 bias estimation, the proposed QP-bias EKF and
 /// the bias-augmented ("iterated NLOS") EKF, with the C++ names. Solvers are chosen by name: "default"
 /// (the C++ default of the class), "enumeration", "proxsuite", or "failing", a solver that never solves, to
-/// exercise the fallbacks.
+/// exercise the fallbacks; or given as a Python object with solve(H, g, lower, upper) (PythonBoxQp).
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "batch.hpp"
 #include "bind.hpp"
@@ -29,6 +31,120 @@ std::unique_ptr<BoxQp> solver_by_name(const std::string& name, int n, const BoxQ
   if (name == "failing") return std::make_unique<FailingBoxQp>(n);
   throw std::invalid_argument("solver: expected 'default', 'enumeration', 'proxsuite' or 'failing', got '" +
                               name + "'");
+}
+
+/// "an array of shape (a, b)" or "an object of type T", for the messages.
+std::string describe_result(const py::handle& r, const py::array& as) {
+  if (as && as.ndim() <= 2) {
+    std::string s = "an array of shape (";
+    for (py::ssize_t i = 0; i < as.ndim(); ++i) s += (i > 0 ? ", " : "") + std::to_string(as.shape(i));
+    return s + (as.ndim() == 1 ? ",)" : ")");
+  }
+  return std::string("an object of type ") +
+         py::str(py::type::handle_of(r).attr("__name__")).cast<std::string>();
+}
+
+/// A BoxQp whose solve() calls a Python object's solve(H, g, lower, upper), which returns the minimiser
+/// (n,) or None when it found none (status kFailed): how Python users plug in their own QP solver, as C++
+/// users derive from BoxQp. Every call takes the GIL (the trackers' run() and the Monte Carlo workers call
+/// it without). A result of the wrong shape, or outside the box by more than 1e-6 (1 + |bound|), raises
+/// ValueError naming the solver (the tracker is then unchanged); a non-finite one is a failure (kFailed),
+/// as for the C++ solvers; one within that tolerance is projected onto the box, as ProxsuiteBoxQp's is.
+/// clone() is copy.deepcopy of the object, so a tracker holding one can be copied (Monte Carlo workers).
+class PythonBoxQp final : public BoxQp {
+ public:
+  /// With the GIL. TypeError when obj has no callable solve.
+  PythonBoxQp(py::object obj, int n) : obj_(std::move(obj)), n_(n) {
+    if (py::hasattr(obj_, "solve")) solve_ = obj_.attr("solve");
+    if (!solve_ || PyCallable_Check(solve_.ptr()) == 0)
+      throw py::type_error(
+          "solver: expected a solver name (str) or an object with a method solve(H, g, "
+          "lower, upper), got " +
+          describe_result(obj_, py::array()));
+    const py::object nm = py::getattr(obj_, "name", py::none());
+    name_ = py::isinstance<py::str>(nm)
+                ? nm.cast<std::string>()
+                : py::str(py::type::handle_of(obj_).attr("__name__")).cast<std::string>();
+    x_.setZero(n);
+  }
+  ~PythonBoxQp() override {
+    py::gil_scoped_acquire gil;  // the last owner may be a worker thread without it
+    solve_ = py::object();
+    obj_ = py::object();
+  }
+  PythonBoxQp(const PythonBoxQp&) = delete;
+  PythonBoxQp& operator=(const PythonBoxQp&) = delete;
+
+  int size() const override { return n_; }
+  std::string name() const override { return name_; }
+  const VecX& x() const override { return x_; }
+  std::unique_ptr<BoxQp> clone() const override {
+    py::gil_scoped_acquire gil;
+    auto c = std::make_unique<PythonBoxQp>(py::module_::import("copy").attr("deepcopy")(obj_), n_);
+    c->x_ = x_;
+    return c;
+  }
+
+  QpResult solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,
+                 const Eigen::Ref<const VecX>& lower, const Eigen::Ref<const VecX>& upper) override {
+    mitigation::detail::check_box_qp(n_, H, g, lower, upper);
+    QpResult res;
+    res.objective = std::nan("");
+    py::gil_scoped_acquire gil;
+    const py::object r = solve_(MatX(H), VecX(g), VecX(lower), VecX(upper));
+    if (r.is_none()) {
+      res.status = QpStatus::kFailed;
+      x_.setZero();
+      return res;
+    }
+    const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(r);
+    if (!a || a.ndim() != 1 || a.size() != n_)
+      throw py::value_error("solver: solve() of '" + name_ + "' returned " + describe_result(r, a) +
+                            "; expected the " + std::to_string(n_) + " values of the minimiser, or None");
+    VecX x = Eigen::Map<const VecX>(a.data(), n_);
+    if (!x.allFinite()) {
+      res.status = QpStatus::kFailed;
+      x_.setZero();
+      return res;
+    }
+    for (int i = 0; i < n_; ++i) {
+      const double tol_lo = 1e-6 * (1.0 + std::abs(lower[i])), tol_hi = 1e-6 * (1.0 + std::abs(upper[i]));
+      if (x[i] < lower[i] - tol_lo || x[i] > upper[i] + tol_hi)
+        throw py::value_error("solver: solve() of '" + name_ + "' returned x[" + std::to_string(i) +
+                              "] = " + py::repr(py::float_(x[i])).cast<std::string>() + " outside [" +
+                              py::repr(py::float_(lower[i])).cast<std::string>() + ", " +
+                              py::repr(py::float_(upper[i])).cast<std::string>() + "]");
+    }
+    x_ = x.cwiseMax(lower).cwiseMin(upper);
+    res.objective = 0.5 * x_.dot(H * x_) + g.dot(x_);
+    res.status = QpStatus::kSolved;
+    return res;
+  }
+
+ private:
+  py::object obj_, solve_;
+  int n_;
+  std::string name_;
+  VecX x_;
+};
+
+/// BoxQp::clone() of a solver made by make_box_qp (every built-in one clones).
+std::unique_ptr<BoxQp> clone_box_qp(const BoxQp& q) {
+  std::unique_ptr<BoxQp> c = q.clone();
+  if (!c) throw std::invalid_argument("the BoxQp '" + q.name() + "' cannot be copied");
+  return c;
+}
+
+/// The trackers' `solver` argument: a name (solver_by_name; "default" gives null when `default_null`, the
+/// tracker's own choice) or a Python solver object (PythonBoxQp).
+std::unique_ptr<BoxQp> solver_arg(const py::object& solver, int n, const BoxQpSettings& s,
+                                  bool default_null) {
+  if (py::isinstance<py::str>(solver)) {
+    const auto name = solver.cast<std::string>();
+    if (name == "default" && default_null) return nullptr;
+    return solver_by_name(name, n, s);
+  }
+  return std::make_unique<PythonBoxQp>(solver, n);
 }
 
 Gaussian<4> to_belief4(const VecX& mean, const MatX& cov) {
@@ -80,7 +196,13 @@ void bind_mitigation(pybind11::module_& m) {
           py::arg("H"), py::arg("g"), py::arg("lower"), py::arg("upper"),
           "Solves the QP. H (n, n) symmetric PSD, g, lower, upper (n,), lower <= upper; returns QpResult.")
       .def_property_readonly(
-          "x", [](const BoxQp& q) { return VecX(q.x()); }, "Minimiser of the last solve (n,).");
+          "x", [](const BoxQp& q) { return VecX(q.x()); }, "Minimiser of the last solve (n,).")
+      .def("clone", &clone_box_qp,
+           "An independent solver that solves as this one would (BoxQp::clone); also copy.copy and "
+           "copy.deepcopy.")
+      .def("__copy__", &clone_box_qp)
+      .def(
+          "__deepcopy__", [](const BoxQp& q, const py::dict&) { return clone_box_qp(q); }, py::arg("memo"));
   m.def(
       "make_box_qp",
       [](int n, const BoxQpSettings& s, const std::string& solver) { return solver_by_name(solver, n, s); },
@@ -148,13 +270,14 @@ void bind_mitigation(pybind11::module_& m) {
       .def_readonly("flags", &BiasEstimate::flags, "FLAG_* bits of the fallbacks taken.");
 
   py::class_<BiasEstimator>(m, "BiasEstimator", "Ke & Wu Sec. 3 NLOS bias estimation for fixed anchors.")
-      .def(py::init([](const MatX& anchors, const std::string& solver, const BoxQpSettings& s) {
+      .def(py::init([](const MatX& anchors, const py::object& solver, const BoxQpSettings& s) {
              nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
              return std::make_unique<BiasEstimator>(
-                 anchors, solver_by_name(solver, static_cast<int>(anchors.rows()), s));
+                 anchors, solver_arg(solver, static_cast<int>(anchors.rows()), s, false));
            }),
            py::arg("anchors"), py::arg("solver") = "default", py::arg("settings") = BoxQpSettings(),
-           "anchors (M, 2), M >= 3.")
+           "anchors (M, 2), M >= 3. solver: a name (as make_box_qp) or an object with solve(H, g, lower, "
+           "upper) returning the minimiser (M,) or None (see QpBiasEkf).")
       .def(
           "estimate",
           [](BiasEstimator& e, const VecX& z, const VecX& variances, std::optional<VecX> hint) {
@@ -224,19 +347,22 @@ void bind_mitigation(pybind11::module_& m) {
                         "Ke & Wu 2011 proposed tracker: EKF with QP-estimated NLOS biases (eq. 25) and the "
                         "innovation test of eqs. (31)-(32). State [x, y, vx, vy].")
       .def(py::init([](const ConstantVelocity2& motion, const MatX& anchors, const VecX& mean,
-                       const MatX& cov, const QpBiasEkfOptions& o, const std::string& solver, double t0) {
+                       const MatX& cov, const QpBiasEkfOptions& o, const py::object& solver, double t0) {
              nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
              // "default": QpBiasEkf's own choice (EnumerationBoxQp for the prediction reference, M <= 8)
              std::unique_ptr<BoxQp> qp =
-                 solver == "default"
-                     ? nullptr
-                     : solver_by_name(solver, static_cast<int>(std::max<Eigen::Index>(anchors.rows(), 1)),
-                                      {});
+                 solver_arg(solver, static_cast<int>(std::max<Eigen::Index>(anchors.rows(), 1)), {}, true);
              return std::make_unique<QpBiasEkf>(motion, anchors, to_belief4(mean, cov), o, std::move(qp), t0);
            }),
            py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
            py::arg("options") = QpBiasEkfOptions(), py::arg("solver") = "default", py::arg("t0") = 0.0,
-           "motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4).")
+           "motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4). "
+           "solver: 'default' (its own choice), 'enumeration', 'proxsuite', 'failing', or your own: an "
+           "object with solve(H, g, lower, upper) returning the minimiser (M,) of 1/2 x^T H x + g^T x on "
+           "lower <= x <= upper, or None when it finds none (a failure: the tracker's fallback). It is "
+           "called with the GIL; a result of the wrong shape or outside the box raises ValueError and "
+           "leaves the tracker unchanged, as does an exception raised inside it. Copies of the tracker (the "
+           "Monte Carlo workers') get copy.deepcopy of it.")
       .def_property_readonly(
           "solver_name", [](const QpBiasEkf& f) { return f.bias_estimator().solver().name(); },
           "Name of the eq. (14) solver in use (\"enumeration\", \"proxsuite-dense\", ...).")

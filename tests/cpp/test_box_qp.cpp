@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -201,6 +202,23 @@ TEST_CASE("box QP clone: an independent solver that solves as the original would
 }
 
 namespace {
+/// Four anchors on a 20 m square, a belief at (8, 6) and a tracker that estimates biases at every update.
+struct Square4 {
+  MatX anchors = (MatX(4, 2) << 0, 0, 20, 0, 0, 20, 20, 20).finished();
+  Gaussian<4> g0 = [] {
+    Gaussian<4> g;
+    g.mean << 8, 6, 1, 0;
+    g.cov = Mat<4, 4>::Identity();
+    return g;
+  }();
+  ConstantVelocity2 mo{0.1, 1.0, VelocityNoise::kWhiteAcceleration};
+  QpBiasEkfOptions o = [] {
+    QpBiasEkfOptions q;
+    q.always_estimate = true;
+    return q;
+  }();
+};
+
 /// A solver written before BoxQp::clone() existed: the default clone() returns null.
 class NoCloneQp final : public BoxQp {
  public:
@@ -223,13 +241,11 @@ class NoCloneQp final : public BoxQp {
 
 TEST_CASE("QpBiasEkf copies: an independent tracker with its own solver, or a clear refusal",
           "[mitigation][qp]") {
-  const MatX anchors = (MatX(4, 2) << 0, 0, 20, 0, 0, 20, 20, 20).finished();
-  Gaussian<4> g0;
-  g0.mean << 8, 6, 1, 0;
-  g0.cov = Mat<4, 4>::Identity();
-  const ConstantVelocity2 mo(0.1, 1.0, VelocityNoise::kWhiteAcceleration);
-  QpBiasEkfOptions o;
-  o.always_estimate = true;
+  const Square4 sq;
+  const MatX& anchors = sq.anchors;
+  const Gaussian<4>& g0 = sq.g0;
+  const ConstantVelocity2& mo = sq.mo;
+  const QpBiasEkfOptions& o = sq.o;
   auto ranges = [&](int k) {
     VecX z(4);
     const Vec<2> p(8.0 + 0.1 * k, 6.0);
@@ -265,4 +281,61 @@ TEST_CASE("QpBiasEkf copies: an independent tracker with its own solver, or a cl
   CHECK(d.bias_estimator().solver().name() == "enumeration");
   QpBiasEkf moved(std::move(n));  // moving needs no clone
   CHECK(moved.bias_estimator().solver().name() == "no-clone");
+}
+
+namespace {
+/// Solves through the enumeration solver, or throws when *armed (a solver written in Python may raise).
+class ThrowingQp final : public BoxQp {
+ public:
+  ThrowingQp(int n, std::shared_ptr<bool> armed) : inner_(n), armed_(std::move(armed)) {}
+  int size() const override { return inner_.size(); }
+  std::string name() const override { return "throwing"; }
+  const VecX& x() const override { return inner_.x(); }
+  QpResult solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,
+                 const Eigen::Ref<const VecX>& lower, const Eigen::Ref<const VecX>& upper) override {
+    if (*armed_) throw std::runtime_error("boom");
+    return inner_.solve(H, g, lower, upper);
+  }
+
+ private:
+  EnumerationBoxQp inner_;
+  std::shared_ptr<bool> armed_;
+};
+}  // namespace
+
+TEST_CASE("QpBiasEkf: a solver that throws leaves the tracker as it was", "[mitigation][qp]") {
+  const Square4 sq;
+  const MatX& anchors = sq.anchors;
+  const Gaussian<4>& g0 = sq.g0;
+  const ConstantVelocity2& mo = sq.mo;
+  const QpBiasEkfOptions& o = sq.o;
+  VecX z(4);
+  for (int i = 0; i < 4; ++i)
+    z[i] = (anchors.row(i).transpose() - g0.mean.head<2>()).norm() + (i == 2 ? 5 : 0);
+  auto armed = std::make_shared<bool>(false);
+  QpBiasEkf f(mo, anchors, g0, o, std::make_unique<ThrowingQp>(4, armed));
+  f.update(z);
+  REQUIRE(f.last_step().bias_estimated);
+  const Vec<4> m = f.mean();
+  const Mat<4, 4> P = f.cov();
+  const VecX b = f.bias(), lb = f.bias_estimator().last().bias;
+  const double t = f.time();
+  const unsigned flags = f.last_step().flags;
+  *armed = true;
+  CHECK_THROWS_WITH(f.step(z), "boom");
+  CHECK_THROWS_WITH(f.update(z), "boom");
+  CHECK(f.mean() == m);
+  CHECK(f.cov() == P);
+  CHECK(f.time() == t);
+  CHECK(f.bias() == b);
+  CHECK(f.bias_estimator().last().bias == lb);
+  CHECK(f.last_step().flags == flags);
+  // and it goes on as if the refused calls had not been made
+  *armed = false;
+  QpBiasEkf g(mo, anchors, g0, o);
+  g.update(z);
+  f.step(z);
+  g.step(z);
+  CHECK(f.mean() == g.mean());
+  CHECK(f.bias() == g.bias());
 }

@@ -234,6 +234,7 @@ class BiasEstimator {
     est_.bias.setZero(M_);
     est_.lower.setZero(M_);
     est_.upper.setZero(M_);
+    back_ = est_;
   }
 
   BiasEstimator(const BiasEstimator&) = default;
@@ -261,6 +262,7 @@ class BiasEstimator {
       NLOSLOC_ENSURE(variances[i] > 0.0 && std::isfinite(variances[i]),
                      "variances: expected finite values > 0, got " + std::to_string(variances[i]) +
                          " at row " + std::to_string(i));
+    back_ = est_;  // same sizes: no allocation
     BiasEstimate& e = est_;
     e.flags = 0;
     e.bias.setZero();
@@ -348,6 +350,7 @@ class BiasEstimator {
     nlosloc::detail::check_measurement(z, M_, "z");
     nlosloc::detail::check_measurement(innovation, M_, "innovation");
     nlosloc::detail::ensure_shape(D, M_, M_, "D");
+    back_ = est_;  // same sizes: no allocation
     BiasEstimate& e = est_;
     e.flags = 0;
     e.bias.setZero();
@@ -422,7 +425,12 @@ class BiasEstimator {
   BiasEstimate& solve_scaled(double s, BiasEstimate& e) {
     lq_ = e.lower / s;
     uq_ = e.upper / s;
-    e.qp = solver_->solve(Hq_, gq_, lq_, uq_);
+    try {
+      e.qp = solver_->solve(Hq_, gq_, lq_, uq_);
+    } catch (...) {
+      est_ = back_;  // a solver that throws (one written in Python, say) leaves the last estimate as it was
+      throw;
+    }
     if (!e.qp.ok() || !solver_->x().allFinite()) {
       e.flags |= kFlagQpFailed;
       e.bias.setZero();
@@ -458,6 +466,7 @@ class BiasEstimator {
   MatX H0_, U_, L_, Sv_, Svg_, T_, Hq_;
   VecX gq_, y_, r_, rinv_, lq_, uq_, tmp_;
   BiasEstimate est_;
+  BiasEstimate back_;  ///< est_ before the current estimate, restored when the solver throws
 };
 
 }  // namespace nlosloc::mitigation

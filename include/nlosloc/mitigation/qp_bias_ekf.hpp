@@ -131,6 +131,7 @@ class QpBiasEkf {
     var_.setZero(M);
     ycorr_.setZero(M);
     bias_.setZero(M);
+    bias_back_.setZero(M);
   }
 
   QpBiasEkf(const QpBiasEkf&) = default;
@@ -185,17 +186,38 @@ class QpBiasEkf {
   /// bias QP (Sec. 3) when NLOS, gain (22), corrected update (25) and covariance (23).
   MitigationStep update(const Eigen::Ref<const VecX>& z) {
     nlosloc::detail::check_measurement(z, num_anchors(), "z");
-    return update_unchecked(z);
+    const State x0 = x_;  // copies: the references would follow x_ and P_
+    const Cov P0 = P_;
+    return guarded_update(z, x0, P0, t_);
   }
 
-  /// predict() then update(z); on bad input nothing changes (checked before predicting).
+  /// predict() then update(z); on bad input nothing changes (checked before predicting), and a solver that
+  /// throws leaves the tracker as it was before the call.
   MitigationStep step(const Eigen::Ref<const VecX>& z) {
     nlosloc::detail::check_measurement(z, num_anchors(), "z");
+    const State x0 = x_;
+    const Cov P0 = P_;
+    const double t0 = t_;
     predict();
-    return update_unchecked(z);
+    return guarded_update(z, x0, P0, t0);
   }
 
  private:
+  /// update_unchecked(z), restoring the belief (x0, P0, t0: the one before the call) and the bias when it
+  /// throws: the built-in solvers do not, but a custom BoxQp may.
+  MitigationStep guarded_update(const Eigen::Ref<const VecX>& z, const State& x0, const Cov& P0, double t0) {
+    bias_back_ = bias_;  // same size: no allocation
+    try {
+      return update_unchecked(z);
+    } catch (...) {
+      x_ = x0;
+      P_ = P0;
+      t_ = t0;
+      bias_ = bias_back_;
+      throw;
+    }
+  }
+
   MitigationStep update_unchecked(const Eigen::Ref<const VecX>& z) {
     const int M = num_anchors();
     const MatX& A = anchors();
@@ -295,7 +317,7 @@ class QpBiasEkf {
   double t_ = 0.0;
   nlosloc::detail::UpdateTail<4> tail_;
   Eigen::Matrix<double, Eigen::Dynamic, 4> F_;
-  VecX a_, var_, ycorr_, bias_;
+  VecX a_, var_, ycorr_, bias_, bias_back_;
   MitigationStep last_;
 };
 

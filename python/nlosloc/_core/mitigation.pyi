@@ -133,6 +133,14 @@ class BoxQp:
     """
     Box-constrained convex QP: minimise 1/2 x^T H x + g^T x, lower <= x <= upper (Ke & Wu eq. 14). Build one with make_box_qp(n).
     """
+    def __copy__(self) -> BoxQp:
+        ...
+    def __deepcopy__(self, memo: dict) -> BoxQp:
+        ...
+    def clone(self) -> BoxQp:
+        """
+        An independent solver that solves as this one would (BoxQp::clone); also copy.copy and copy.deepcopy.
+        """
     def solve(self, H: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], g: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], lower: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], upper: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> QpResult:
         """
         Solves the QP. H (n, n) symmetric PSD, g, lower, upper (n,), lower <= upper; returns QpResult.
@@ -325,9 +333,9 @@ class BiasEstimator:
     """
     Ke & Wu Sec. 3 NLOS bias estimation for fixed anchors.
     """
-    def __init__(self, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], solver: str = 'default', settings: BoxQpSettings = ...) -> None:
+    def __init__(self, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], solver: typing.Any = 'default', settings: BoxQpSettings = ...) -> None:
         """
-        anchors (M, 2), M >= 3.
+        anchors (M, 2), M >= 3. solver: a name (as make_box_qp) or an object with solve(H, g, lower, upper) returning the minimiser (M,) or None (see QpBiasEkf).
         """
     def estimate(self, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], variances: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], hint: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None) -> BiasEstimate:
         """
@@ -514,9 +522,9 @@ class QpBiasEkf:
     """
     Ke & Wu 2011 proposed tracker: EKF with QP-estimated NLOS biases (eq. 25) and the innovation test of eqs. (31)-(32). State [x, y, vx, vy].
     """
-    def __init__(self, motion: nlosloc._core.models.ConstantVelocity2, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: QpBiasEkfOptions = ..., solver: str = 'default', t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+    def __init__(self, motion: nlosloc._core.models.ConstantVelocity2, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: QpBiasEkfOptions = ..., solver: typing.Any = 'default', t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         """
-        motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4).
+        motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4). solver: 'default' (its own choice), 'enumeration', 'proxsuite', 'failing', or your own: an object with solve(H, g, lower, upper) returning the minimiser (M,) of 1/2 x^T H x + g^T x on lower <= x <= upper, or None when it finds none (a failure: the tracker's fallback). It is called with the GIL; a result of the wrong shape or outside the box raises ValueError and leaves the tracker unchanged, as does an exception raised inside it. Copies of the tracker (the Monte Carlo workers') get copy.deepcopy of it.
         """
     def belief(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
         """

@@ -1,0 +1,188 @@
+"""A box-QP solver written in Python behind QpBiasEkf and BiasEstimator (solver=<object>): the
+same numbers as the built-in solver it wraps, an osqp one close to the default, the failure and
+error paths with the tracker unchanged, and copies for the Monte Carlo workers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from nlosloc import mitigation, models, sim
+
+K1_ANCHORS = np.array([[0.0, 0.0], [8600.0, 0.0], [4300.0, 7500.0]])
+
+
+def motion() -> models.ConstantVelocity2:
+    return models.ConstantVelocity2(0.1, 1.0, models.VelocityNoise.WhiteAcceleration)
+
+
+class Enumeration:
+    """The built-in enumeration solver, called from Python; counts its calls."""
+
+    name = "py-enumeration"
+
+    def __init__(self, n: int = 3) -> None:
+        self.qp = mitigation.make_box_qp(n, solver="enumeration")
+        self.calls = 0
+
+    def solve(self, H, g, lower, upper):  # noqa: N803 (the QP's names)
+        self.calls += 1
+        return self.qp.x if self.qp.solve(H, g, lower, upper).ok() else None
+
+
+class Osqp:
+    """osqp on the same box QP."""
+
+    def solve(self, H, g, lower, upper):  # noqa: N803
+        import osqp
+
+        prob = osqp.OSQP()
+        n = len(g)
+        prob.setup(
+            P=sp.csc_matrix(np.triu(H)),
+            q=g,
+            A=sp.identity(n, format="csc"),
+            l=lower,
+            u=upper,
+            eps_abs=1e-10,
+            eps_rel=1e-10,
+            max_iter=100000,
+            polishing=True,
+            verbose=False,
+        )
+        r = prob.solve(raise_error=False)
+        return None if r.x is None or not np.all(np.isfinite(r.x)) else np.clip(r.x, lower, upper)
+
+
+class Returns:
+    """solve() returns a fixed object (or raises it) after `ok` good calls."""
+
+    def __init__(self, result, ok: int = 0) -> None:
+        self.result, self.ok, self.inner = result, ok, Enumeration()
+
+    def solve(self, H, g, lower, upper):  # noqa: N803
+        if self.ok > 0:
+            self.ok -= 1
+            return self.inner.solve(H, g, lower, upper)
+        if isinstance(self.result, Exception):
+            raise self.result
+        return self.result(len(g)) if callable(self.result) else self.result
+
+
+def k1_ranges(steps: int, seed: int = 3) -> np.ndarray:
+    d = sim.K1().draw("1LOS/2NLOS", seed, 0, steps)
+    return d["y"]
+
+
+def tracker(solver, always: bool = True) -> mitigation.QpBiasEkf:
+    o = mitigation.QpBiasEkfOptions()
+    o.always_estimate = always
+    mean = np.array([1000.0, 1000.0, 10.0, 15.0])
+    return mitigation.QpBiasEkf(
+        motion(), K1_ANCHORS, mean, np.diag([2500.0, 2500, 100, 100]), o, solver
+    )
+
+
+def test_a_python_solver_gives_the_numbers_of_the_solver_it_wraps() -> None:
+    z = k1_ranges(300)
+    mine = Enumeration()
+    f, g = tracker(mine), tracker("enumeration")
+    assert f.solver_name == "py-enumeration"
+    np.testing.assert_array_equal(f.run(z), g.run(z))  # run() releases the GIL: the solver takes it
+    assert mine.calls == 300  # always_estimate: one QP per step
+    np.testing.assert_array_equal(f.bias, g.bias)
+    # BiasEstimator likewise
+    e, ref = (
+        mitigation.BiasEstimator(K1_ANCHORS, Enumeration()),
+        mitigation.BiasEstimator(K1_ANCHORS, "enumeration"),
+    )
+    for k in range(0, 300, 30):
+        np.testing.assert_array_equal(
+            e.estimate(z[k], np.full(3, 2500.0)).bias, ref.estimate(z[k], np.full(3, 2500.0)).bias
+        )
+    assert mitigation.BiasEstimator(K1_ANCHORS, Osqp()).solver_name == "Osqp"  # the class name
+
+
+def test_an_osqp_solver_tracks_as_the_default() -> None:
+    pytest.importorskip("osqp")
+    z = k1_ranges(200)
+    xo, xd = tracker(Osqp()).run(z), tracker("default").run(z)
+    # eq. (14) with the prediction reference is strictly convex: one minimiser, to osqp's tolerance
+    assert np.max(np.abs(xo[:, :2] - xd[:, :2])) < 1e-3
+
+
+@pytest.mark.parametrize(
+    ("result", "error", "match"),
+    [
+        (np.zeros(2), ValueError, r"solve\(\) of 'Returns' returned an array of shape \(2,\); "),
+        ("abc", ValueError, r"returned an object of type str; expected the 3 values"),
+        (lambda n: np.full(n, -1.0), ValueError, r"returned x\[0\] = -1.0 outside \[0.0, "),
+        (ZeroDivisionError("inside"), ZeroDivisionError, "inside"),
+    ],
+)
+def test_a_bad_result_or_an_exception_leaves_the_tracker_unchanged(result, error, match) -> None:
+    z = k1_ranges(5)
+    f = tracker(Returns(result, ok=2))
+    f.update(z[0])
+    f.step(z[1])
+    before = (f.mean.copy(), f.cov.copy(), f.time, f.bias.copy(), f.last_step.flags)
+    with pytest.raises(error, match=match):
+        f.step(z[2])
+    with pytest.raises(error, match=match):
+        f.update(z[2])
+    with pytest.raises(error, match=match):
+        f.run(z[2:4], first_is_update=False)
+    after = (f.mean, f.cov, f.time, f.bias, f.last_step.flags)
+    for a, b in zip(before, after):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_none_or_nan_is_a_failure_and_the_tracker_falls_back() -> None:
+    z = k1_ranges(3)
+    for result in [None, lambda n: np.full(n, np.nan)]:
+        f = tracker(Returns(result))
+        s = f.update(z[0])
+        assert s.flags & mitigation.FLAG_QP_FAILED
+        np.testing.assert_array_equal(f.bias, np.zeros(3))  # no bias subtracted
+        assert np.all(np.isfinite(f.mean))
+
+
+def test_an_object_without_solve_is_refused() -> None:
+    with pytest.raises(TypeError, match=r"solver: expected a solver name \(str\) or an object"):
+        tracker(object())
+    with pytest.raises(TypeError, match="object with a method solve"):
+        mitigation.BiasEstimator(K1_ANCHORS, 3)
+
+
+def test_monte_carlo_workers_run_copies_of_a_tracker_with_a_python_solver() -> None:
+    s = sim.K1()
+    p = s.params
+    o = mitigation.QpBiasEkfOptions()
+    o.gamma = p.gamma
+    o.noise.sigma0 = p.sigma_los
+    mine = Enumeration()
+    qp = mitigation.QpBiasEkf(s.motion, p.anchors, np.zeros(4), np.eye(4), o, mine)
+    res = sim.run_monte_carlo(
+        "K1", "1LOS/2NLOS", 4, 7, ["proposed", ("py-qp", qp)], threads=2, steps=200
+    )
+    e = res["estimators"]
+    np.testing.assert_array_equal(e["py-qp"]["errors"], e["proposed"]["errors"])
+    assert mine.calls == 0  # the workers' copies (copy.deepcopy) solved, not the object given
+
+
+def test_built_in_solvers_copy() -> None:
+    import copy
+
+    names = ["enumeration", "failing"] + (["proxsuite"] if mitigation.have_proxsuite_box_qp else [])
+    h, g = np.diag([2.0, 1.0, 4.0]), np.array([-2.0, 3.0, -1.0])
+    lo, up = np.zeros(3), np.ones(3)
+    for name in names:
+        q = mitigation.make_box_qp(3, solver=name)
+        for make in [lambda q: q.clone(), copy.copy, copy.deepcopy]:
+            q.solve(h, g, lo, up)
+            c = make(q)
+            assert c is not q and c.name == q.name
+            np.testing.assert_array_equal(c.x, q.x)
+            assert c.solve(h, -g, lo, up).status == q.solve(h, -g, lo, up).status
+            np.testing.assert_array_equal(c.x, q.x)
