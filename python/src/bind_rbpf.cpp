@@ -8,10 +8,15 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <string>
 #include <variant>
+#include <vector>
 
 #include "any_rbpf.hpp"
 #include "batch.hpp"
@@ -151,6 +156,44 @@ void particle_filter_methods(C& c) {
           "Restarts from N(mean, cov) at time t0 (validated; a rejected call changes nothing).");
 }
 
+/// Per-anchor log factors A (B, N_z) of the offspring enumerations: B, N_z >= 1, no NaN or +inf (-inf: a
+/// condition ruled out).
+void check_factors(const MatX& A) {
+  NLOSLOC_ENSURE(A.rows() >= 1 && A.cols() >= 1, "A: expected (B, N_z) log factors with B, N_z >= 1, got (" +
+                                                     std::to_string(A.rows()) + ", " +
+                                                     std::to_string(A.cols()) + ")");
+  for (Eigen::Index b = 0; b < A.rows(); ++b)
+    for (Eigen::Index z = 0; z < A.cols(); ++z)
+      NLOSLOC_ENSURE(!std::isnan(A(b, z)) && A(b, z) != std::numeric_limits<double>::infinity(),
+                     "A: expected log factors that are finite or -inf, got " + std::to_string(A(b, z)) +
+                         " at (" + std::to_string(b) + ", " + std::to_string(z) + ")");
+}
+
+/// (keys, sums) of an enumeration of A's situation vectors, at most `limit` (the arrays are returned, so
+/// their size is capped: 2^24 from Python).
+template <class Run>
+py::tuple enumerated(const MatX& A, std::uint64_t limit, Run&& run) {
+  check_factors(A);
+  NLOSLOC_ENSURE(limit >= 1, "limit: expected an integer >= 1, got 0");
+  const std::uint64_t total = situation_count(static_cast<int>(A.cols()), static_cast<int>(A.rows()));
+  const std::uint64_t count = total == 0 ? limit : std::min(total, limit);
+  constexpr std::uint64_t kMax = std::uint64_t{1} << 24;
+  NLOSLOC_ENSURE(count <= kMax, "limit: the call would return " + std::to_string(count) +
+                                    " situation vectors; expected at most 2^24 (lower limit)");
+  std::vector<std::uint64_t> keys;
+  std::vector<double> sums;
+  keys.reserve(static_cast<std::size_t>(count));
+  sums.reserve(static_cast<std::size_t>(count));
+  {
+    py::gil_scoped_release nogil;
+    run([&](std::uint64_t key, double sum) {
+      keys.push_back(key);
+      sums.push_back(sum);
+    });
+  }
+  return py::make_tuple(py::array_t<std::uint64_t>(static_cast<py::ssize_t>(keys.size()), keys.data()),
+                        py::array_t<double>(static_cast<py::ssize_t>(sums.size()), sums.data()));
+}
 }  // namespace
 
 void bind_rbpf(py::module_& m) {
@@ -421,8 +464,8 @@ void bind_rbpf(py::module_& m) {
         py::arg("num_particles"), "d_min = sigma^2 / (10 M), Huerta eq. (31).");
   m.def(
       "merge_greedy",
-      [](const std::vector<std::uint64_t>& keys, const MatX& means, VecX logw, double d_min,
-         bool with_pairs) -> py::tuple {
+      [](const std::vector<std::uint64_t>& keys, const MatX& means, VecX logw, double d_min, bool with_pairs,
+         int threads) -> py::tuple {
         NLOSLOC_ENSURE(
             static_cast<Eigen::Index>(keys.size()) == means.cols() && logw.size() == means.cols(),
             "keys, means, logw: expected one key, one mean column and one log weight per particle");
@@ -431,24 +474,74 @@ void bind_rbpf(py::module_& m) {
             !logw.array().isNaN().any() && !(logw.array() == std::numeric_limits<double>::infinity()).any(),
             "logw: expected log weights that are finite or -inf (no NaN, no +inf)");
         nlosloc::detail::ensure_nonnegative(d_min, "d_min");
+        NLOSLOC_ENSURE(threads >= 1, "threads: expected an integer >= 1, got " + std::to_string(threads));
+        auto close = [&](int a, int b) { return (means.col(a) - means.col(b)).norm() < d_min; };
+        if (threads > 1) {  // merge_greedy_parallel: the same result, on a pool (keys below 2^32)
+          NLOSLOC_ENSURE(!with_pairs, "with_pairs: not available with threads > 1 (use threads=1)");
+          ThreadPool pool(threads);
+          ParallelMergeWorkspace pws;
+          int n = 0;
+          {
+            py::gil_scoped_release nogil;
+            n = merge_greedy_parallel(keys.data(), logw.data(), static_cast<int>(keys.size()), close, pool,
+                                      pws);
+          }
+          return py::make_tuple(logw, n);
+        }
         MergeWorkspace ws;
         std::vector<int> pairs;
-        const int n = merge_greedy(
-            keys.data(), logw.data(), static_cast<int>(keys.size()),
-            [&](int a, int b) { return (means.col(a) - means.col(b)).norm() < d_min; }, ws,
-            [&](int a, int b, double) {
-              if (!with_pairs) return;
-              pairs.push_back(a);
-              pairs.push_back(b);
-            });
+        const int n = merge_greedy(keys.data(), logw.data(), static_cast<int>(keys.size()), close, ws,
+                                   [&](int a, int b, double) {
+                                     if (!with_pairs) return;
+                                     pairs.push_back(a);
+                                     pairs.push_back(b);
+                                   });
         if (!with_pairs) return py::make_tuple(logw, n);
         using Pairs = Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor>;
         return py::make_tuple(logw, n, Pairs(Eigen::Map<const Pairs>(pairs.data(), n, 2)));
       },
       py::arg("keys"), py::arg("means"), py::arg("logw"), py::arg("d_min"), py::arg("with_pairs") = false,
+      py::arg("threads") = 1,
       "Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, "
       "number absorbed), and with with_pairs=True also an (absorbed, 2) int array of (absorber, absorbed) "
-      "pairs in merge order (each absorbed particle once; its weight moved is its input weight).");
+      "pairs in merge order (each absorbed particle once; its weight moved is its input weight). threads > 1 "
+      "runs merge_greedy_parallel (the joint PF's merge; keys below 2^32, no pairs): the same result on a "
+      "pool of that many threads.");
+  m.def(
+      "enumerate_offspring",
+      [](const MatX& A, const bind::UInt64Arg& limit_arg) {
+        const std::uint64_t limit = limit_arg.get("limit");
+        return enumerated(A, limit, [&](auto&& emit) { enumerate_offspring(A, limit, emit); });
+      },
+      py::arg("A"), py::arg("limit"),
+      "The children of one particle as the RBPF expands them (Huerta eq. 23): every situation vector "
+      "when N_z^B <= limit, in key order, else the `limit` with the largest sum_b A[b, s_b] (best first, "
+      "enumerate_best). A (B, N_z): log factors per anchor and condition (finite or -inf). Returns (keys "
+      "(K,) uint64 as encode_situation, sums (K,)).");
+  m.def(
+      "enumerate_best",
+      [](const MatX& A, const bind::UInt64Arg& limit_arg) {
+        const std::uint64_t limit = limit_arg.get("limit");
+        return enumerated(A, limit, [&](auto&& emit) { enumerate_best(A, limit, emit); });
+      },
+      py::arg("A"), py::arg("limit"),
+      "The `limit` situation vectors with the largest sum_b A[b, s_b], in decreasing order, ties by the "
+      "smaller rank vector (exact best-first search: the RBPF's bounded enumeration). Returns (keys, "
+      "sums) as enumerate_offspring.");
+  m.def(
+      "select_top",
+      [](const VecX& logw, int M) {
+        NLOSLOC_ENSURE(M >= 1, "M: expected an integer >= 1, got " + std::to_string(M));
+        NLOSLOC_ENSURE(
+            !logw.array().isNaN().any() && !(logw.array() == std::numeric_limits<double>::infinity()).any(),
+            "logw: expected log weights that are finite or -inf (no NaN, no +inf)");
+        std::vector<int> out;
+        select_top(logw.data(), static_cast<int>(logw.size()), M, out);
+        return out;
+      },
+      py::arg("logw"), py::arg("M"),
+      "Indices of the (at most) M entries of logw with the largest finite log weights, heaviest first, "
+      "ties by index (the prune step of Huerta Sec. V-A.3; -inf entries are never kept).");
   m.def(
       "systematic_resample",
       [](const VecX& w, int M, double u0) {

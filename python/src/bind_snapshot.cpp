@@ -73,7 +73,10 @@ void baseline_methods(C& c) {
           "options", [](const S& s) { return s.options(); }, "A copy of the options it was built with.")
       .def_property_readonly(
           "gauss_newton", [](const S& s) { return s.solver().options(); },
-          "A copy of the GaussNewtonOptions of its solver.");
+          "A copy of the GaussNewtonOptions of its solver.")
+      .def_property_readonly(
+          "solver", [](const S& s) { return s.solver(); },
+          "A copy of its LosSolver (the per-epoch Gauss-Newton fix on its measurement stack).");
 }
 
 }  // namespace

@@ -10,7 +10,7 @@ import nlosloc._core.situation
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfStepInfo', 'RbpfVariant', 'decode_situation', 'default_merge_threshold', 'encode_situation', 'merge_greedy', 'pf_simd_lanes', 'situation_count', 'systematic_resample']
+__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfStepInfo', 'RbpfVariant', 'decode_situation', 'default_merge_threshold', 'encode_situation', 'enumerate_best', 'enumerate_offspring', 'merge_greedy', 'pf_simd_lanes', 'select_top', 'situation_count', 'systematic_resample']
 class RbpfVariant:
     """
     Order of the RBPF iteration.
@@ -528,13 +528,25 @@ def encode_situation(sight: typing.Any, num_conditions: typing.SupportsInt | typ
     """
     Key of a situation vector (B,) of conditions in [0, N_z): its base-N_z digits, anchor 0 least significant (the keys of merge_greedy and of the RBPF's particles).
     """
-def merge_greedy(keys: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], d_min: typing.SupportsFloat | typing.SupportsIndex, with_pairs: bool = False) -> tuple:
+def enumerate_best(A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], limit: int) -> tuple:
     """
-    Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, number absorbed), and with with_pairs=True also an (absorbed, 2) int array of (absorber, absorbed) pairs in merge order (each absorbed particle once; its weight moved is its input weight).
+    The `limit` situation vectors with the largest sum_b A[b, s_b], in decreasing order, ties by the smaller rank vector (exact best-first search: the RBPF's bounded enumeration). Returns (keys, sums) as enumerate_offspring.
+    """
+def enumerate_offspring(A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], limit: int) -> tuple:
+    """
+    The children of one particle as the RBPF expands them (Huerta eq. 23): every situation vector when N_z^B <= limit, in key order, else the `limit` with the largest sum_b A[b, s_b] (best first, enumerate_best). A (B, N_z): log factors per anchor and condition (finite or -inf). Returns (keys (K,) uint64 as encode_situation, sums (K,)).
+    """
+def merge_greedy(keys: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], d_min: typing.SupportsFloat | typing.SupportsIndex, with_pairs: bool = False, threads: typing.SupportsInt | typing.SupportsIndex = 1) -> tuple:
+    """
+    Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, number absorbed), and with with_pairs=True also an (absorbed, 2) int array of (absorber, absorbed) pairs in merge order (each absorbed particle once; its weight moved is its input weight). threads > 1 runs merge_greedy_parallel (the joint PF's merge; keys below 2^32, no pairs): the same result on a pool of that many threads.
     """
 def pf_simd_lanes() -> int:
     """
     Doubles per SIMD packet in ParticleFilter's inner loops for this build of the module: 2 on x86-64 by default, 4 (AVX, AVX2) or 8 (AVX-512) when built with -Ccmake.define.NLOSLOC_NATIVE=ON on such a CPU.
+    """
+def select_top(logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], M: typing.SupportsInt | typing.SupportsIndex) -> list[int]:
+    """
+    Indices of the (at most) M entries of logw with the largest finite log weights, heaviest first, ties by index (the prune step of Huerta Sec. V-A.3; -inf entries are never kept).
     """
 def situation_count(num_conditions: typing.SupportsInt | typing.SupportsIndex, num_anchors: typing.SupportsInt | typing.SupportsIndex) -> int:
     """

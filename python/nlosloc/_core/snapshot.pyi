@@ -301,6 +301,11 @@ class MleLos:
         Sight decision of the last epoch (B).
         """
     @property
+    def solver(self) -> LosSolver:
+        """
+        A copy of its LosSolver (the per-epoch Gauss-Newton fix on its measurement stack).
+        """
+    @property
     def unknowns(self) -> int:
         """
         D, plus 1 with RTOA rows.
@@ -348,6 +353,11 @@ class Chen:
     def sight(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         """
         Sight decision of the last epoch (B).
+        """
+    @property
+    def solver(self) -> LosSolver:
+        """
+        A copy of its LosSolver (the per-epoch Gauss-Newton fix on its measurement stack).
         """
     @property
     def unknowns(self) -> int:
@@ -404,6 +414,11 @@ class Cong:
         Sight decision of the last epoch (B).
         """
     @property
+    def solver(self) -> LosSolver:
+        """
+        A copy of its LosSolver (the per-epoch Gauss-Newton fix on its measurement stack).
+        """
+    @property
     def unknowns(self) -> int:
         """
         D, plus 1 with RTOA rows.
@@ -456,6 +471,11 @@ class Urruela:
     def sight(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         """
         Sight decision of the last epoch (B).
+        """
+    @property
+    def solver(self) -> LosSolver:
+        """
+        A copy of its LosSolver (the per-epoch Gauss-Newton fix on its measurement stack).
         """
     @property
     def unknowns(self) -> int:
