@@ -1,9 +1,18 @@
-"""Pickling of the scenario parameters and scenarios (copyreg), so that a scenario built with custom
-parameters travels to other processes (``montecarlo.run(executor=...)``) and can be saved.
+"""Pickling (copyreg) of the scenario parameters and scenarios, the options and settings of every
+filter, tracker and baseline, the sigma-point schemes and the motion models, so that they travel to
+other processes (``montecarlo.run(executor=...)``: a factory that closes over them) and can be saved
+with an experiment.
 
-A parameter object pickles as its class and the values of all its read-write properties (every
-field: one added later is included without a change here), and is checked as usual when a scenario
-is built from it; a scenario pickles as its class and its parameters.
+A parameter or options object pickles as its class and the values of all its read-write properties
+(every field: one added later is included without a change here; nested settings such as
+``QpBiasEkfOptions.noise`` pickle the same way), and is checked as usual where it is used; a
+scenario pickles as its class and its parameters; a sigma-point scheme as its rule and parameters;
+a motion model as its constructor's arguments; a measurement stack as its layout, anchors and the
+add_* calls that rebuild its rows; a sight chain, a sight process and a quality model as what built
+them (the noise distributions pickle in the extension module); a Kalman filter (Kf, Ekf, Ukf,
+UkfAugmented) as its models and its belief at its time, which is its whole state: the copy steps
+on exactly as the original. The particle filters, the IUKF and the Ke & Wu trackers do not pickle
+(their state is more than a belief); give montecarlo.run a factory that builds them.
 """
 
 from __future__ import annotations
@@ -11,9 +20,33 @@ from __future__ import annotations
 import copyreg
 from typing import Any
 
+from nlosloc._core import core as _core
+from nlosloc._core import filters as _filters
+from nlosloc._core import mitigation as _mitigation
+from nlosloc._core import models as _models
+from nlosloc._core import rbpf as _rbpf
 from nlosloc._core import sim as _sim
+from nlosloc._core import situation as _situation
+from nlosloc._core import snapshot as _snapshot
 
-_PARAMS = (_sim.H1Params, _sim.H2Params, _sim.K1Params, _sim.K2Params, _sim.K3Params)
+_PARAMS = (
+    _sim.H1Params,
+    _sim.H2Params,
+    _sim.K1Params,
+    _sim.K2Params,
+    _sim.K3Params,
+    _rbpf.RbpfOptions,
+    _rbpf.PfOptions,
+    _mitigation.BoxQpSettings,
+    _mitigation.RangeNoise,
+    _mitigation.QpBiasEkfOptions,
+    _mitigation.BiasAugmentedEkfOptions,
+    _snapshot.GaussNewtonOptions,
+    _snapshot.ChenOptions,
+    _snapshot.CongOptions,
+    _snapshot.UrruelaOptions,
+    _models.StateLayout,
+)
 _SCENARIOS = (_sim.H1, _sim.H2, _sim.K1, _sim.K2, _sim.K3)
 
 
@@ -45,3 +78,125 @@ for _cls in _PARAMS:
     copyreg.pickle(_cls, _reduce_params)
 for _cls in _SCENARIOS:
     copyreg.pickle(_cls, _reduce_scenario)
+
+
+def _make_scheme(kind: Any, alpha: float, beta: float, kappa: float) -> Any:
+    k = _core.SigmaScheme.Kind
+    if kind == k.Scaled:
+        return _core.SigmaScheme.scaled(alpha, beta, kappa)
+    if kind == k.Julier:
+        return _core.SigmaScheme.julier(kappa)
+    if kind == k.Cubature:
+        return _core.SigmaScheme.cubature()
+    return _core.SigmaScheme.huerta(alpha)
+
+
+def _reduce_scheme(s: Any) -> tuple[Any, ...]:
+    return _make_scheme, (s.kind, s.alpha, s.beta, s.kappa)
+
+
+def _reduce_row_noise(r: Any) -> tuple[Any, ...]:
+    return type(r), (r.center, r.sigma_left, r.sigma_right)
+
+
+def _reduce_cv(m: Any) -> tuple[Any, ...]:
+    return type(m), (m.dt, m.sigma2, m.noise)
+
+
+def _reduce_cvc(m: Any) -> tuple[Any, ...]:
+    return type(m), (m.dt, m.sigma_v2, m.sigma_tau2)
+
+
+def _reduce_twr(m: Any) -> tuple[Any, ...]:
+    return type(m), (m.dt, m.sigma_omega, m.sigma_phi, m.sigma_v)
+
+
+copyreg.pickle(_core.SigmaScheme, _reduce_scheme)
+copyreg.pickle(_snapshot.RowNoise, _reduce_row_noise)
+copyreg.pickle(_models.TwoWayClock, _reduce_twr)
+for _cls in (_models.ConstantVelocity2, _models.ConstantVelocity3):
+    copyreg.pickle(_cls, _reduce_cv)
+for _cls in (_models.ConstantVelocityClock2, _models.ConstantVelocityClock3):
+    copyreg.pickle(_cls, _reduce_cvc)
+
+
+def _stack_rows(m: Any) -> list[tuple[Any, ...]]:
+    """The add_* calls that rebuild the rows of a MeasurementStack, in order."""
+    kind = _models.RowKind
+    nz = m.num_conditions
+    rows: list[tuple[Any, ...]] = []
+    for i in range(m.rows):
+        r = m.row(i)
+        if r.kind == kind.TwrT:
+            continue  # the second row of the pair add_twr made
+        if r.kind == kind.TwrTau:
+            w = m.twr_params(i)
+            twr = (w.delta_slot, w.reply_delay, w.sigma_m, w.gamma)
+            rows.append(("add_twr", r.anchor, r.slot, *twr))
+            continue
+        noise = [m.noise(i, z) for z in range(nz)]
+        if r.kind == kind.Tdoa:
+            noise_b = [m.noise_b(i, z) for z in range(nz)]
+            rows.append(("add_tdoa", r.anchor, r.anchor2, noise, noise_b))
+        elif r.kind == kind.AoaPhase:
+            rows.append(("add_aoa_phase", r.anchor, r.sector_center, noise))
+        elif r.kind == kind.Linear:
+            rows.append(("add_linear", m.linear_h(i), r.anchor, noise))
+        else:
+            method = {kind.Toa: "add_toa", kind.Rtoa: "add_rtoa", kind.Aoa: "add_aoa"}[r.kind]
+            rows.append((method, r.anchor, noise))
+    return rows
+
+
+def _make_stack(layout: Any, anchors: Any, num_conditions: int, rows: list[tuple[Any, ...]]) -> Any:
+    m = _models.MeasurementStack(layout, anchors, num_conditions)
+    for method, *args in rows:
+        getattr(m, method)(*args)
+    return m
+
+
+def _reduce_stack(m: Any) -> tuple[Any, ...]:
+    return _make_stack, (m.layout, m.anchors, m.num_conditions, _stack_rows(m))
+
+
+def _make_sight_model(speed: bool, args: tuple[Any, ...]) -> Any:
+    make = _situation.SightModel.speed_dependent if speed else _situation.SightModel.fixed
+    return make(*args)
+
+
+def _reduce_sight_model(s: Any) -> tuple[Any, ...]:
+    if s.is_speed_dependent:
+        return _make_sight_model, (True, (s.mean_los, s.mean_nlos, s.dt, s.form, s.initial))
+    return _make_sight_model, (False, (s.base_matrix, s.k_sight, s.initial))
+
+
+def _reduce_sight_process(p: Any) -> tuple[Any, ...]:
+    return type(p), ([p.model(b) for b in range(p.num_anchors)],)
+
+
+def _reduce_quality(q: Any) -> tuple[Any, ...]:
+    return type(q), ([q.distribution(z) for z in range(q.num_conditions)],)
+
+
+copyreg.pickle(_models.MeasurementStack, _reduce_stack)
+copyreg.pickle(_situation.SightModel, _reduce_sight_model)
+copyreg.pickle(_situation.SightProcess, _reduce_sight_process)
+copyreg.pickle(_situation.QualityModel, _reduce_quality)
+
+
+def _reduce_kf(f: Any) -> tuple[Any, ...]:
+    return type(f), (f.motion, f.H, f.R, f.mean, f.cov, f.time)
+
+
+def _reduce_ekf(f: Any) -> tuple[Any, ...]:
+    return type(f), (f.motion, f.measurements, f.mean, f.cov, f.time)
+
+
+def _reduce_ukf(f: Any) -> tuple[Any, ...]:
+    return type(f), (f.motion, f.measurements, f.mean, f.cov, f.scheme, f.time)
+
+
+copyreg.pickle(_filters.Kf, _reduce_kf)
+copyreg.pickle(_filters.Ekf, _reduce_ekf)
+copyreg.pickle(_filters.Ukf, _reduce_ukf)
+copyreg.pickle(_filters.UkfAugmented, _reduce_ukf)

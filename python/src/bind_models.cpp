@@ -102,6 +102,13 @@ void bind_models(py::module_& m) {
       .def_readonly("sector_center", &MeasurementRow::sector_center)
       .def_readonly("slot", &MeasurementRow::slot);
 
+  py::class_<MeasurementStack::TwrParams>(m, "TwrParams", "Parameters of a two-way-ranging pair (add_twr).")
+      .def_readonly("delta_slot", &MeasurementStack::TwrParams::delta_slot, "Delta (s).")
+      .def_readonly("reply_delay", &MeasurementStack::TwrParams::reply_delay, "delta (s).")
+      .def_readonly("sigma_m", &MeasurementStack::TwrParams::sigma_m, "Time-stamping noise std (s).")
+      .def_readonly("gamma", &MeasurementStack::TwrParams::gamma,
+                    "NLOS delay distribution per condition (None: no delay).");
+
   py::class_<MeasurementStack>(
       m, "MeasurementStack",
       "Stack of measurement rows y = g(x) + n(s), each tied to an anchor whose sight condition s selects the "
@@ -136,7 +143,16 @@ void bind_models(py::module_& m) {
       .def_property_readonly("layout", &MeasurementStack::layout, py::return_value_policy::copy)
       .def_property_readonly("anchors", &MeasurementStack::anchors)
       .def("row", &MeasurementStack::row, py::arg("i"))
-      .def("noise", &MeasurementStack::noise, py::arg("i"), py::arg("condition"))
+      .def("noise", &MeasurementStack::noise, py::arg("i"), py::arg("condition"),
+           "Noise distribution of row i under a condition (the first anchor's for TDOA); ValueError for a "
+           "two-way-ranging row (see twr_params).")
+      .def("noise_b", &MeasurementStack::noise_b, py::arg("i"), py::arg("condition"),
+           "Noise of the second anchor (n_b of n_a - n_b) of TDOA row i.")
+      .def("twr_params", &MeasurementStack::twr_params, py::arg("i"), py::return_value_policy::copy,
+           "Parameters of two-way-ranging row i (either row of its pair), as given to add_twr.")
+      .def(
+          "linear_h", [](const MeasurementStack& s, int i) { return VecX(s.linear_h(i)); }, py::arg("i"),
+          "h of linear row i (y = h^T x + n), a copy.")
       .def(
           "predict",
           [](const MeasurementStack& s, const VecX& x, double t) {
@@ -146,6 +162,17 @@ void bind_models(py::module_& m) {
             return y;
           },
           py::arg("x"), py::arg("t") = 0.0, "Noise-free prediction g(x), shape (rows,).")
+      .def(
+          "predict_columns",
+          [](const MeasurementStack& s, const MatX& X, double t) {
+            detail::ensure_shape(X, s.layout().dim, -1, "X");
+            MatX Z(s.rows(), X.cols());
+            s.predict_columns(X, t, Z);
+            return Z;
+          },
+          py::arg("X"), py::arg("t") = 0.0,
+          "g at every column of X (n, K): shape (rows, K), as predict() per column (the UKF's sigma-point "
+          "path, row by row).")
       .def(
           "jacobian",
           [](const MeasurementStack& s, const VecX& x, double t) {

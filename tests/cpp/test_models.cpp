@@ -328,3 +328,35 @@ TEST_CASE("measurement stack rejects a layout whose indices leave the state",
   CHECK_NOTHROW(MeasurementStack(ConstantVelocityClock3::layout(), MatX::Zero(1, 3), 2));
   CHECK_NOTHROW(MeasurementStack(TwoWayClock::layout(), MatX::Zero(1, 2), 2));
 }
+
+TEST_CASE("measurement stack gives back what its rows hold: both TDOA noises, TWR parameters, linear h",
+          "[models][measurement]") {
+  MatX anchors(3, 2);
+  anchors << 0, 0, 6, 0, 0, 8;
+  MeasurementStack st(ConstantVelocity2::layout(), anchors, 2);
+  const Vec<4> h(0.0, 1.0, 0.5, 0.0);
+  st.add_toa(0, two(1, 2)).add_tdoa(1, 2, two(1, 2), two(3, 4)).add_linear(h, -1, two(5, 6));
+  CHECK(st.noise(1, 1).variance() == 2.0 * 2.0);    // n_a
+  CHECK(st.noise_b(1, 0).variance() == 3.0 * 3.0);  // n_b
+  CHECK(st.noise_b(1, 1).variance() == 4.0 * 4.0);
+  CHECK(st.linear_h(2) == VecX(h));
+  CHECK_THROWS_WITH(st.noise_b(0, 0), "i: row 0 is not a TDOA row (only TDOA rows have a second noise)");
+  CHECK_THROWS_WITH(st.linear_h(1), "i: row 1 is not a linear row");
+  CHECK_THROWS_WITH(st.twr_params(0), "i: row 0 is not a two-way-ranging row");
+  CHECK_THROWS_AS(st.noise_b(1, 2), std::out_of_range);
+  CHECK_THROWS_AS(st.linear_h(3), std::out_of_range);
+
+  MeasurementStack tw(TwoWayClock::layout(), anchors, 2);
+  tw.add_twr(2, 1, 5e-6, 1e-6, 0.2e-9, {std::nullopt, nn::Normal(8.5e-9, 2e-9)});
+  for (int i : {0, 1}) {  // either row of the pair
+    const MeasurementStack::TwrParams& w = tw.twr_params(i);
+    CHECK(w.delta_slot == 5e-6);
+    CHECK(w.reply_delay == 1e-6);
+    CHECK(w.sigma_m == 0.2e-9);
+    REQUIRE(w.gamma.size() == 2);
+    CHECK(!w.gamma[0].has_value());
+    CHECK(w.gamma[1]->mean() == 8.5e-9);
+  }
+  // its noise is the TWR parameters': noise(i, z) says so instead of reading an empty table
+  CHECK_THROWS_WITH(tw.noise(0, 1), "noise: row 0 is a two-way-ranging row; its noise is in twr_params(i)");
+}

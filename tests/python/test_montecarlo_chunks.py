@@ -9,7 +9,7 @@ from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 import numpy as np
 import pytest
 
-from nlosloc import core, montecarlo, sim
+from nlosloc import core, mitigation, models, montecarlo, rbpf, sim, snapshot
 
 CASE = "2LOS/1NLOS"
 STEPS = 110  # K1 leaves out its first 100 samples
@@ -218,27 +218,117 @@ def test_scenarios_and_their_parameters_pickle() -> None:
     assert pickle.loads(pickle.dumps(k2)).base.nlos_mean == 300.0
 
 
-def test_an_executor_runs_a_scenario_with_custom_parameters() -> None:
-    params = sim.K1Params()
-    params.sigma_los = 4.0
-    scenario = sim.K1(params)
-    local = montecarlo.run(scenario, CASE, 4, 3, ESTIMATORS, steps=STEPS, progress=False)
+def on_spawn_pool(scenario: sim.Scenario, entries: list) -> dict:
+    """montecarlo.run of 4 runs from seed 3 in chunks of 2 on two spawned processes (every argument
+    travels by pickle)."""
     ctx = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=2, mp_context=ctx) as ex:
-        remote = montecarlo.run(
+        return montecarlo.run(
             scenario,
             CASE,
             4,
             3,
-            ESTIMATORS,
+            entries,
             threads=1,
             steps=STEPS,
             progress=False,
             executor=ex,
             chunk_runs=2,
         )
-    assert_same_runs(remote, local)
+
+
+def test_an_executor_runs_a_scenario_with_custom_parameters() -> None:
+    params = sim.K1Params()
+    params.sigma_los = 4.0
+    scenario = sim.K1(params)
+    local = montecarlo.run(scenario, CASE, 4, 3, ESTIMATORS, steps=STEPS, progress=False)
+    assert_same_runs(on_spawn_pool(scenario, ESTIMATORS), local)
     default = sim.run_monte_carlo("K1", CASE, 4, 3, ["EKF"], steps=STEPS)
     assert not np.array_equal(
         default["estimators"]["EKF"]["errors"], local["estimators"]["EKF"]["errors"]
     )
+
+
+def same_fields(a, b) -> None:
+    """Every read-write field of a equals b's, nested settings field by field."""
+    assert type(a) is type(b)
+    for key, value in fields(a).items():
+        got = getattr(b, key)
+        if fields(value):
+            same_fields(value, got)
+        elif isinstance(value, core.SigmaScheme):
+            assert (got.kind, got.alpha, got.beta, got.kappa) == (
+                value.kind,
+                value.alpha,
+                value.beta,
+                value.kappa,
+            )
+        else:
+            np.testing.assert_array_equal(got, value, err_msg=key)
+
+
+def test_options_schemes_and_motion_models_pickle() -> None:
+    r = rbpf.RbpfOptions()
+    r.num_particles, r.merge_threshold, r.max_offspring = 33, 0.25, 2**40
+    r.variant, r.scheme = rbpf.RbpfVariant.Classical, core.SigmaScheme.julier(1.5)
+    p = rbpf.PfOptions()
+    p.num_particles, p.seed, p.resampling = 777, 2**63 + 5, rbpf.PfResampling.Systematic
+    q = mitigation.QpBiasEkfOptions()
+    q.gamma, q.reference, q.soft_threshold = 1.3, mitigation.BiasReference.Snapshot, 0.5
+    q.noise.sigma0, q.noise.relative = 7.5, 0.01
+    b = mitigation.BiasAugmentedEkfOptions()
+    b.iterations, b.noise.min_std = 4, 0.2
+    qs = mitigation.BoxQpSettings()
+    qs.eps_abs, qs.max_iter = 1e-7, 33
+    g = snapshot.GaussNewtonOptions()
+    g.max_iterations = 7
+    ch, co, ur = snapshot.ChenOptions(), snapshot.CongOptions(), snapshot.UrruelaOptions()
+    ch.reject_fraction, co.fit_seed, ur.p_nlos = 0.25, 99, 0.3
+    layout = models.ConstantVelocityClock3.layout()
+    for o in [r, p, q, b, qs, g, ch, co, ur, layout]:
+        same_fields(o, pickle.loads(pickle.dumps(o)))
+    for s in [
+        core.SigmaScheme.scaled(0.5, 1.5, 0.25),
+        core.SigmaScheme.julier(2.0),
+        core.SigmaScheme.cubature(),
+        core.SigmaScheme.huerta(0.7),
+    ]:
+        t = pickle.loads(pickle.dumps(s))
+        assert (t.kind, t.alpha, t.beta, t.kappa) == (s.kind, s.alpha, s.beta, s.kappa)
+    rn = pickle.loads(pickle.dumps(snapshot.RowNoise(1.0, 2.0, 3.0)))
+    assert (rn.center, rn.sigma_left, rn.sigma_right) == (1.0, 2.0, 3.0)
+    for m in [
+        models.ConstantVelocity2(0.1, 2.0, models.VelocityNoise.WhiteAcceleration),
+        models.ConstantVelocity3(0.2, 1.0),
+        models.ConstantVelocityClock2(0.01, 1.0, 0.5),
+        models.ConstantVelocityClock3(0.02, 3.0, 0.25),
+        models.TwoWayClock(0.5, 1e-6, 1e-7, 0.3),
+    ]:
+        n = pickle.loads(pickle.dumps(m))
+        assert type(n) is type(m) and n.dt == m.dt
+        np.testing.assert_array_equal(n.F, m.F)
+        np.testing.assert_array_equal(n.Q, m.Q)
+
+
+class QpFactory:
+    """Builds K1's proposed tracker with options it holds (they pickle with it)."""
+
+    def __init__(self, options: mitigation.QpBiasEkfOptions) -> None:
+        self.options = options
+
+    def __call__(self, scenario: sim.Scenario, case_index: int) -> mitigation.QpBiasEkf:
+        return mitigation.QpBiasEkf(
+            scenario.motion, scenario.params.anchors, np.zeros(4), np.eye(4), self.options
+        )
+
+
+def test_an_executor_runs_a_factory_that_holds_options() -> None:
+    k1 = sim.K1()
+    o = mitigation.QpBiasEkfOptions()
+    o.gamma, o.noise.sigma0 = k1.params.gamma, k1.params.sigma_los
+    entries = ["proposed", ("mine", QpFactory(o))]
+    local = montecarlo.run(k1, CASE, 4, 3, entries, steps=STEPS, progress=False)
+    np.testing.assert_array_equal(
+        local["estimators"]["mine"]["errors"], local["estimators"]["proposed"]["errors"]
+    )
+    assert_same_runs(on_spawn_pool(k1, entries), local)

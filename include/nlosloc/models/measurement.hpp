@@ -163,13 +163,36 @@ class MeasurementStack {
     return angle_row(i);
   }
   bool has_angles() const { return has_angles_; }
-  /// Noise distribution of row i (first anchor for TDOA) under sight condition `condition`.
-  const Dist& noise(int i, int condition) const {
+  /// Noise distribution of row i (first anchor for TDOA) under sight condition `condition`. A two-way-ranging
+  /// row has none (its noise is twr_params'): std::invalid_argument.
+  const Dist& noise(int i, int condition) const { return row_noise(noise_, i, condition, "noise"); }
+  /// Noise of the second anchor (n_b of n_a - n_b) of TDOA row i under `condition`.
+  const Dist& noise_b(int i, int condition) const {
     check_row(i, "i");
-    if (condition < 0 || condition >= num_conditions_)  // std::out_of_range: IndexError in Python, as for i
-      throw std::out_of_range("condition: expected a sight condition in [0, " +
-                              std::to_string(num_conditions_) + "), got " + std::to_string(condition));
-    return noise_[static_cast<std::size_t>(i)][static_cast<std::size_t>(condition)];
+    NLOSLOC_ENSURE(rows_[static_cast<std::size_t>(i)].kind == RowKind::kTdoa,
+                   "i: row " + std::to_string(i) + " is not a TDOA row (only TDOA rows have a second noise)");
+    return row_noise(noise2_, i, condition, "noise_b");
+  }
+
+  /// Parameters of a two-way-ranging pair (add_twr).
+  struct TwrParams {
+    double delta_slot, reply_delay, sigma_m;
+    std::vector<std::optional<Dist>> gamma;  ///< NLOS delay per condition (nullopt: none)
+  };
+  /// The parameters of two-way-ranging row i (either row of its pair).
+  const TwrParams& twr_params(int i) const {
+    check_row(i, "i");
+    const MeasurementRow& r = rows_[static_cast<std::size_t>(i)];
+    NLOSLOC_ENSURE(r.kind == RowKind::kTwrTau || r.kind == RowKind::kTwrT,
+                   "i: row " + std::to_string(i) + " is not a two-way-ranging row");
+    return twr_[static_cast<std::size_t>(r.linear)];
+  }
+  /// h of linear row i (y = h^T x + n).
+  const VecX& linear_h(int i) const {
+    check_row(i, "i");
+    const MeasurementRow& r = rows_[static_cast<std::size_t>(i)];
+    NLOSLOC_ENSURE(r.kind == RowKind::kLinear, "i: row " + std::to_string(i) + " is not a linear row");
+    return lin_[static_cast<std::size_t>(r.linear)];
   }
 
   /// Throws unless `sight` has one entry per anchor with values in [0, num_conditions).
@@ -356,10 +379,17 @@ class MeasurementStack {
   }
 
  private:
-  struct TwrParams {
-    double delta_slot, reply_delay, sigma_m;
-    std::vector<std::optional<Dist>> gamma;
-  };
+  const Dist& row_noise(const std::vector<std::vector<Dist>>& table, int i, int condition,
+                        const char* what) const {
+    check_row(i, "i");
+    if (condition < 0 || condition >= num_conditions_)  // std::out_of_range: IndexError in Python, as for i
+      throw std::out_of_range("condition: expected a sight condition in [0, " +
+                              std::to_string(num_conditions_) + "), got " + std::to_string(condition));
+    const std::vector<Dist>& n = table[static_cast<std::size_t>(i)];
+    NLOSLOC_ENSURE(!n.empty(), std::string(what) + ": row " + std::to_string(i) +
+                                   " is a two-way-ranging row; its noise is in twr_params(i)");
+    return n[static_cast<std::size_t>(condition)];
+  }
 
   /// Throws unless the layout's indices fit its state: the position (and velocity, when present) blocks
   /// of space_dim entries and each clock entry (-1 when absent) inside [0, dim). The rows read and write

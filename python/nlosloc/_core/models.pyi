@@ -7,7 +7,7 @@ import nlosloc._core.noise
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['ConstantVelocity2', 'ConstantVelocity3', 'ConstantVelocityClock2', 'ConstantVelocityClock3', 'MeasurementRow', 'MeasurementStack', 'RowKind', 'StateLayout', 'TwoWayClock', 'VelocityNoise']
+__all__: list[str] = ['ConstantVelocity2', 'ConstantVelocity3', 'ConstantVelocityClock2', 'ConstantVelocityClock3', 'MeasurementRow', 'MeasurementStack', 'RowKind', 'StateLayout', 'TwoWayClock', 'TwrParams', 'VelocityNoise']
 class StateLayout:
     """
     Indices of the state pieces (-1 = absent).
@@ -377,6 +377,30 @@ class MeasurementRow:
     @property
     def slot(self) -> int:
         ...
+class TwrParams:
+    """
+    Parameters of a two-way-ranging pair (add_twr).
+    """
+    @property
+    def delta_slot(self) -> float:
+        """
+        Delta (s).
+        """
+    @property
+    def gamma(self) -> list[nlosloc._core.noise.Distribution | None]:
+        """
+        NLOS delay distribution per condition (None: no delay).
+        """
+    @property
+    def reply_delay(self) -> float:
+        """
+        delta (s).
+        """
+    @property
+    def sigma_m(self) -> float:
+        """
+        Time-stamping noise std (s).
+        """
 class MeasurementStack:
     """
     Stack of measurement rows y = g(x) + n(s), each tied to an anchor whose sight condition s selects the row's noise (Huerta Table I; Grisales eqs. 17-20). Build it once with the add_* methods.
@@ -423,8 +447,18 @@ class MeasurementStack:
         """
         Analytic Jacobian dg/dx, shape (rows, n).
         """
+    def linear_h(self, i: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        h of linear row i (y = h^T x + n), a copy.
+        """
     def noise(self, i: typing.SupportsInt | typing.SupportsIndex, condition: typing.SupportsInt | typing.SupportsIndex) -> nlosloc._core.noise.Distribution:
-        ...
+        """
+        Noise distribution of row i under a condition (the first anchor's for TDOA); ValueError for a two-way-ranging row (see twr_params).
+        """
+    def noise_b(self, i: typing.SupportsInt | typing.SupportsIndex, condition: typing.SupportsInt | typing.SupportsIndex) -> nlosloc._core.noise.Distribution:
+        """
+        Noise of the second anchor (n_b of n_a - n_b) of TDOA row i.
+        """
     def noise_moments(self, x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
         """
         (mean, cov) of the noise under `sight` at x.
@@ -437,12 +471,20 @@ class MeasurementStack:
         """
         g(x) plus noise built from standard normals u (noise_dim,) through each quantile map.
         """
+    def predict_columns(self, X: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        g at every column of X (n, K): shape (rows, K), as predict() per column (the UKF's sigma-point path, row by row).
+        """
     def residual(self, a: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         a - b with angle rows wrapped to (-pi, pi].
         """
     def row(self, i: typing.SupportsInt | typing.SupportsIndex) -> MeasurementRow:
         ...
+    def twr_params(self, i: typing.SupportsInt | typing.SupportsIndex) -> TwrParams:
+        """
+        Parameters of two-way-ranging row i (either row of its pair), as given to add_twr.
+        """
     @property
     def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...

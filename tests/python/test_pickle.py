@@ -1,0 +1,139 @@
+"""Models pickle (nlosloc/_pickle.py): measurement stacks with every kind of row, sight chains and
+processes, quality models; each copy predicts, draws and scores as the original."""
+
+from __future__ import annotations
+
+import pickle
+
+import numpy as np
+
+from nlosloc import core, models, noise, sim, situation
+
+
+def roundtrip(obj):
+    return pickle.loads(pickle.dumps(obj))
+
+
+def same_stack(a: models.MeasurementStack, b: models.MeasurementStack, x: np.ndarray) -> None:
+    assert (b.rows, b.noise_dim, b.num_conditions) == (a.rows, a.noise_dim, a.num_conditions)
+    np.testing.assert_array_equal(b.anchors, a.anchors)
+    for i in range(a.rows):
+        ra, rb = a.row(i), b.row(i)
+        for f in ["kind", "anchor", "anchor2", "input", "inputs", "sector_center", "slot"]:
+            assert getattr(rb, f) == getattr(ra, f), (i, f)
+    np.testing.assert_array_equal(b.predict(x, 0.3), a.predict(x, 0.3))
+    np.testing.assert_array_equal(b.jacobian(x, 0.3), a.jacobian(x, 0.3))
+    u = np.linspace(0.1, 0.9, a.noise_dim)
+    for s in [np.zeros(a.num_anchors, int), np.ones(a.num_anchors, int)]:
+        for m, n in zip(a.noise_moments(x, s), b.noise_moments(x, s)):
+            np.testing.assert_array_equal(n, m)
+        np.testing.assert_array_equal(
+            b.predict_augmented(x, 0.3, u, s), a.predict_augmented(x, 0.3, u, s)
+        )
+
+
+def test_a_stack_with_every_row_kind_pickles() -> None:
+    anchors = np.array([[0.0, 0.0], [100.0, 0.0], [0.0, 80.0]])
+    layout = models.ConstantVelocityClock2.layout()
+    emp = noise.Empirical(np.array([1.0, 2.5, 4.0, 9.0, 3.0]))
+    m = models.MeasurementStack(layout, anchors, 2)
+    m.add_toa(0, [noise.Normal(0.0, 1.0), noise.Rayleigh(30.0)])
+    m.add_rtoa(1, [noise.Normal(0.0, 2.0), emp])
+    m.add_aoa(2, [noise.Normal(0.0, 0.01), noise.Normal(0.0, 0.1)])
+    m.add_aoa_phase(0, 0.7, [noise.Normal(0.0, 0.02), noise.Normal(0.0, 0.2)])
+    m.add_tdoa(1, 2, [noise.Normal(0.0, 1.0), noise.Exponential(5.0)], [noise.Normal(0, 3.0), emp])
+    m.add_linear(np.array([0.0, 0.0, 1.0, 0.5, 0.0, 0.0]), -1, [noise.Normal(0, 1.0)] * 2)
+    x = np.array([30.0, 40.0, 5.0, 1.0, -2.0, 0.1])
+    same_stack(m, roundtrip(m), x)
+    assert roundtrip(m).noise_b(4, 1).mean() == emp.mean()
+    # two-way ranging (Grisales eqs. 17-20) on the TwoWayClock state
+    t = models.MeasurementStack(models.TwoWayClock.layout(), anchors, 3)
+    for b in range(3):
+        t.add_twr(b, b, 1e-3, 2e-4, 1e-9, [None, noise.Exponential(3e-8), noise.Rayleigh(5e-8)])
+    t.add_toa(0, [noise.Normal(0.0, 1.0)] * 3)
+    xt = np.array([1.00001, 2e-6, 1.0, -0.5, 20.0, 30.0])
+    c = roundtrip(t)
+    same_stack(t, c, xt)
+    w = c.twr_params(2)
+    assert (w.delta_slot, w.reply_delay, w.sigma_m) == (1e-3, 2e-4, 1e-9)
+    assert w.gamma[0] is None and w.gamma[2].mean() == t.twr_params(2).gamma[2].mean()
+
+
+def test_the_scenarios_stacks_pickle() -> None:
+    for s, x in [
+        (sim.H1(), np.array([-300.0, 200.0, 10.0, 0.0])),
+        (sim.H2(), np.array([20.0, 30.0, 5.0, 1.0, 0.0, 0.1])),
+        (sim.K1(), np.array([1000.0, 900.0, 10.0, 15.0])),
+    ]:
+        same_stack(s.measurements, roundtrip(s.measurements), x)
+
+
+def test_sight_models_processes_and_quality_pickle() -> None:
+    fixed = situation.SightModel.fixed(
+        np.array([[0.9, 0.05, 0.05], [0.2, 0.7, 0.1], [0.1, 0.1, 0.8]]),
+        5,
+        np.array([0.5, 0.3, 0.2]),
+    )
+    stationary = situation.SightModel.fixed(np.array([[0.95, 0.05], [0.3, 0.7]]))
+    speeds = [
+        situation.SightModel.speed_dependent(30.0, 5.0, 0.01, form)
+        for form in [
+            situation.SpeedModel.Single,
+            situation.SpeedModel.Multiple,
+            situation.SpeedModel.Memoryless,
+        ]
+    ]
+    for a in [fixed, stationary, *speeds]:
+        b = roundtrip(a)
+        assert (b.is_speed_dependent, b.k_sight, b.num_conditions) == (
+            a.is_speed_dependent,
+            a.k_sight,
+            a.num_conditions,
+        )
+        np.testing.assert_array_equal(b.initial, a.initial)
+        for k, w in [(1, 0.0), (5, 3.0), (7, 12.5)]:
+            np.testing.assert_array_equal(b.transition(k, w), a.transition(k, w))
+    process = situation.SightProcess([speeds[1], speeds[0], speeds[1]])
+    copy = roundtrip(process)
+    assert copy.num_anchors == 3
+    r1, r2 = core.Rng(3, 0), core.Rng(3, 0)
+    s1, s2 = process.sample_initial(r1), copy.sample_initial(r2)
+    np.testing.assert_array_equal(s1, s2)
+    w = np.array([4.0, 9.0, 1.0])
+    for k in range(1, 30):
+        s1, s2 = process.sample_next(s1, k, w, r1), copy.sample_next(s2, k, w, r2)
+        np.testing.assert_array_equal(s1, s2)
+    q = situation.QualityModel([noise.Beta(4.0, 1.5), noise.Beta(1.5, 4.0)])
+    qc = roundtrip(q)
+    for o in [0.1, 0.5, 0.93]:
+        assert [qc.log_likelihood(o, z) for z in range(2)] == [
+            q.log_likelihood(o, z) for z in range(2)
+        ]
+
+
+def test_kalman_filters_pickle_and_step_on_as_the_original() -> None:
+    from nlosloc import filters
+
+    h2 = sim.H2()
+    d = h2.draw("default", 4, 0, 40)
+    m0, p0 = d["initial_mean"], d["initial_cov"]
+    made = [
+        filters.Ekf(h2.motion, h2.measurements, m0, p0),
+        filters.Ukf(h2.motion, h2.measurements, m0, p0, core.SigmaScheme.julier(1.0)),
+        filters.UkfAugmented(h2.motion, h2.measurements, m0, p0, core.SigmaScheme.scaled(0.5)),
+        filters.Kf(h2.motion, np.eye(2, 6), np.eye(2) * 4.0, m0, p0, 0.5),
+    ]
+    for f in made:
+        y = d["y"] if not isinstance(f, filters.Kf) else d["positions"] + 1.0
+        f.update(y[0])
+        for k in range(1, 20):
+            f.step(y[k])
+        g = roundtrip(f)
+        assert type(g) is type(f) and g.time == f.time
+        np.testing.assert_array_equal(g.mean, f.mean)
+        np.testing.assert_array_equal(g.cov, f.cov)
+        for k in range(20, 40):
+            f.step(y[k])
+            g.step(y[k])
+        np.testing.assert_array_equal(g.mean, f.mean)
+        np.testing.assert_array_equal(g.cov, f.cov)
