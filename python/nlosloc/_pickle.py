@@ -11,8 +11,10 @@ a motion model as its constructor's arguments; a measurement stack as its layout
 add_* calls that rebuild its rows; a sight chain, a sight process and a quality model as what built
 them (the noise distributions pickle in the extension module); a Kalman filter (Kf, Ekf, Ukf,
 UkfAugmented) as its models and its belief at its time, which is its whole state: the copy steps
-on exactly as the original. The particle filters, the IUKF and the Ke & Wu trackers do not pickle
-(their state is more than a belief); give montecarlo.run a factory that builds them.
+on exactly as the original; the forward filter of the sight and the IUKF likewise, with the
+forward filter's probabilities, step and evidence. The particle filters and the Ke & Wu trackers do
+not pickle (their state is more than what they expose); give montecarlo.run a factory that builds
+them.
 """
 
 from __future__ import annotations
@@ -200,3 +202,34 @@ copyreg.pickle(_filters.Kf, _reduce_kf)
 copyreg.pickle(_filters.Ekf, _reduce_ekf)
 copyreg.pickle(_filters.Ukf, _reduce_ukf)
 copyreg.pickle(_filters.UkfAugmented, _reduce_ukf)
+
+
+def _reduce_forward_snapshot(s: Any) -> tuple[Any, ...]:
+    return type(s), (s.gamma, s.pred, s.k, s.log_evidence)
+
+
+def _make_forward(process: Any, quality: Any, snapshot: Any) -> Any:
+    f = _situation.ForwardFilter(process, quality)
+    f.restore(snapshot)
+    return f
+
+
+def _reduce_forward(f: Any) -> tuple[Any, ...]:
+    return _make_forward, (f.process, f.quality, f.save())
+
+
+def _make_iukf(args: tuple[Any, ...], snapshot: Any) -> Any:
+    f = _rbpf.Iukf(*args)
+    f.forward.restore(snapshot)
+    return f
+
+
+def _reduce_iukf(f: Any) -> tuple[Any, ...]:
+    fw = f.forward
+    args = (f.motion, f.measurements, fw.process, fw.quality, f.mean, f.cov, f.scheme, f.time)
+    return _make_iukf, (args, fw.save())
+
+
+copyreg.pickle(_situation.ForwardFilterSnapshot, _reduce_forward_snapshot)
+copyreg.pickle(_situation.ForwardFilter, _reduce_forward)
+copyreg.pickle(_rbpf.Iukf, _reduce_iukf)

@@ -399,8 +399,8 @@ estimators : list, optional
     does (``sim/h1.hpp``, ``sim/k1.hpp``), so the same set-up gives the same numbers. The object
     given is not run or changed. A factory may return such an object too (then it runs
     natively, and ``(name, factory, sight)`` takes a sight policy for the Gaussian filters): a
-    module-level factory pickles where the particle filters, the IUKF and the trackers do not
-    (the Kalman filters pickle too).
+    module-level factory pickles where the particle filters and the trackers do not (the
+    Kalman filters and the Iukf pickle too).
 threads : int, default 0
     Worker threads; 0 uses every core.
 steps : int, optional

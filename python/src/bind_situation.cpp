@@ -5,6 +5,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+#include <limits>
+#include <string>
+
 #include "bind.hpp"
 #include "motion_arg.hpp"
 #include "nlosloc/situation/forward.hpp"
@@ -14,6 +18,19 @@
 namespace py = pybind11;
 using namespace nlosloc;
 using namespace nlosloc::situation;
+
+namespace {
+/// Rows of probabilities: finite, >= 0, each summing to 1 (to 1e-9); ValueError naming `name`.
+void check_probability_rows(const MatX& p, const char* name) {
+  NLOSLOC_ENSURE(p.rows() >= 1 && p.cols() >= 1, std::string(name) + ": expected a (B, N_z) array");
+  for (Eigen::Index b = 0; b < p.rows(); ++b) {
+    NLOSLOC_ENSURE(
+        p.row(b).allFinite() && (p.row(b).array() >= 0.0).all() && std::abs(p.row(b).sum() - 1.0) <= 1e-9,
+        std::string(name) + ": expected rows of probabilities (>= 0, summing to 1), row " +
+            std::to_string(b) + " is not");
+  }
+}
+}  // namespace
 
 void bind_situation(py::module_& m) {
   py::enum_<SpeedModel>(m, "SpeedModel", "Form of the speed-dependent two-state chain.")
@@ -148,6 +165,19 @@ void bind_situation(py::module_& m) {
           py::arg("s"), py::arg("rng"), "One statistic per anchor for situation s (B,).");
 
   py::class_<ForwardFilter::Snapshot>(m, "ForwardFilterSnapshot", "State saved by ForwardFilter.save().")
+      .def(py::init([](const MatX& gamma, const MatX& pred, long k, double log_evidence) {
+             nlosloc::detail::ensure_shape(pred, gamma.rows(), gamma.cols(), "pred");
+             check_probability_rows(gamma, "gamma");
+             check_probability_rows(pred, "pred");
+             NLOSLOC_ENSURE(k >= 0, "k: expected a step index >= 0, got " + std::to_string(k));
+             NLOSLOC_ENSURE(
+                 !std::isnan(log_evidence) && log_evidence != std::numeric_limits<double>::infinity(),
+                 "log_evidence: expected a finite value or -inf");
+             return ForwardFilter::Snapshot{gamma, pred, k, log_evidence};
+           }),
+           py::arg("gamma"), py::arg("pred"), py::arg("k"), py::arg("log_evidence"),
+           "A state to restore(): gamma and pred (B, N_z) rows of probabilities (>= 0, summing to 1), step "
+           "index k >= 0, last log evidence (restore() checks the shapes against the filter).")
       .def_readonly("gamma", &ForwardFilter::Snapshot::gamma, "(B, N_z) probabilities.")
       .def_readonly("pred", &ForwardFilter::Snapshot::pred, "(B, N_z) predicted probabilities.")
       .def_readonly("k", &ForwardFilter::Snapshot::k, "Step index.")

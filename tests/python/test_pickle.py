@@ -6,6 +6,7 @@ from __future__ import annotations
 import pickle
 
 import numpy as np
+import pytest
 
 from nlosloc import core, models, noise, sim, situation
 
@@ -137,3 +138,48 @@ def test_kalman_filters_pickle_and_step_on_as_the_original() -> None:
             g.step(y[k])
         np.testing.assert_array_equal(g.mean, f.mean)
         np.testing.assert_array_equal(g.cov, f.cov)
+
+
+def test_the_iukf_and_its_forward_filter_pickle_mid_run() -> None:
+    from nlosloc import rbpf
+
+    for s in [sim.H1(), sim.H2()]:
+        d = s.draw("default", 2, 0, 60)
+        q = situation.QualityModel(s.quality)
+        f = rbpf.Iukf(
+            s.motion, s.measurements, s.sight_process, q, d["initial_mean"], d["initial_cov"]
+        )
+        for k in range(30):
+            f.step_quality(d["y"][k], d["quality"][k])
+        g = roundtrip(f)
+        assert g.forward.step_index == f.forward.step_index == 30
+        np.testing.assert_array_equal(g.situation_probabilities, f.situation_probabilities)
+        for k in range(30, 60):
+            f.step_quality(d["y"][k], d["quality"][k])
+            g.step_quality(d["y"][k], d["quality"][k])
+        np.testing.assert_array_equal(g.mean, f.mean)
+        np.testing.assert_array_equal(g.cov, f.cov)
+        np.testing.assert_array_equal(g.situation_probabilities, f.situation_probabilities)
+        assert g.forward.last_log_evidence == f.forward.last_log_evidence
+        fw = roundtrip(f.forward)  # alone, too
+        np.testing.assert_array_equal(fw.probabilities, f.forward.probabilities)
+        np.testing.assert_array_equal(fw.predicted, f.forward.predicted)
+
+
+def test_a_snapshot_built_by_hand_is_checked() -> None:
+    g = np.array([[0.7, 0.3], [0.2, 0.8]])
+    snap = situation.ForwardFilterSnapshot(g, g, 4, -1.5)
+    h2 = sim.H2()
+    process = situation.SightProcess(h2.sight_process.model(0), 2)
+    f = situation.ForwardFilter(process, situation.QualityModel(h2.quality))
+    f.restore(snap)
+    assert f.step_index == 4 and f.last_log_evidence == -1.5
+    np.testing.assert_array_equal(f.probabilities, g)
+    with pytest.raises(ValueError, match="gamma: expected rows of probabilities"):
+        situation.ForwardFilterSnapshot(np.array([[0.7, 0.4]]), np.array([[0.5, 0.5]]), 0, 0.0)
+    with pytest.raises(ValueError, match=r"pred: expected shape \(2, 2\)"):
+        situation.ForwardFilterSnapshot(g, g[:1], 0, 0.0)
+    with pytest.raises(ValueError, match="k: expected a step index >= 0"):
+        situation.ForwardFilterSnapshot(g, g, -1, 0.0)
+    with pytest.raises(ValueError, match="log_evidence: expected a finite value or -inf"):
+        situation.ForwardFilterSnapshot(g, g, 0, np.nan)

@@ -188,6 +188,10 @@ class ForwardFilterSnapshot:
     """
     State saved by ForwardFilter.save().
     """
+    def __init__(self, gamma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], pred: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], k: typing.SupportsInt | typing.SupportsIndex, log_evidence: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        """
+        A state to restore(): gamma and pred (B, N_z) rows of probabilities (>= 0, summing to 1), step index k >= 0, last log evidence (restore() checks the shapes against the filter).
+        """
     @property
     def gamma(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
