@@ -16,7 +16,9 @@
 
 #include "batch.hpp"
 #include "bind.hpp"
+#include "native_makers.hpp"
 #include "nlosloc/mitigation/mitigation.hpp"
+#include "nlosloc/sim/k1.hpp"
 
 namespace py = pybind11;
 using namespace nlosloc;
@@ -464,3 +466,32 @@ void bind_mitigation(pybind11::module_& m) {
           py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
           "Sets the kinematic belief and, when t is given, the time; resets the biases to the prior.");
 }
+
+namespace nlosloc::bind {
+
+/// The Ke & Wu trackers of nlosloc.mitigation (QpBiasEkf, BiasAugmentedEkf: state [x, y, vx, vy], one
+/// range row per anchor) as their sim estimators, over a copy. Null otherwise.
+NativeMaker mitigation_maker(const py::handle& h, const std::string& name, const sim::Scenario& s) {
+  auto check = [&](const char* what, int anchors, double dt) {
+    check_fit(name, what, 4, anchors, anchors, dt, s);
+    const StateLayout& L = s.measurements().layout();
+    if (L.position != 0 || L.space_dim != 2 || L.velocity != 2)
+      throw py::value_error(who(name, what) + "tracks [x, y, vx, vy]; scenario " + s.name() +
+                            " has another state layout");
+  };
+  if (py::isinstance<mitigation::QpBiasEkf>(h)) {
+    // copied here, with the GIL: a solver that cannot be cloned is refused now, not on a worker
+    auto proto = std::make_shared<const mitigation::QpBiasEkf>(h.cast<const mitigation::QpBiasEkf&>());
+    check("QpBiasEkf", proto->num_anchors(), proto->motion().dt());
+    return [name, proto] { return std::make_unique<sim::QpBiasEkfEstimator>(name, *proto); };
+  }
+  if (py::isinstance<mitigation::BiasAugmentedEkf>(h)) {
+    auto proto =
+        std::make_shared<const mitigation::BiasAugmentedEkf>(h.cast<const mitigation::BiasAugmentedEkf&>());
+    check("BiasAugmentedEkf", proto->num_anchors(), proto->motion().dt());
+    return [name, proto] { return std::make_unique<sim::BiasAugmentedEkfEstimator>(name, *proto); };
+  }
+  return nullptr;
+}
+
+}  // namespace nlosloc::bind

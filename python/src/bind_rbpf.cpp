@@ -23,9 +23,11 @@
 #include "bind.hpp"
 #include "int_arg.hpp"
 #include "motion_arg.hpp"
+#include "native_makers.hpp"
 #include "nlosloc/filters/iukf.hpp"
 #include "nlosloc/rbpf/pf.hpp"
 #include "nlosloc/rbpf/rbpf.hpp"
+#include "nlosloc/sim/h1.hpp"
 
 namespace py = pybind11;
 using namespace nlosloc;
@@ -595,3 +597,44 @@ void bind_rbpf(py::module_& m) {
         "by default, 4 (AVX, AVX2) or 8 (AVX-512) when built with -Ccmake.define.NLOSLOC_NATIVE=ON on such a "
         "CPU.");
 }
+
+namespace nlosloc::bind {
+
+/// nlosloc.rbpf.Iukf as a sim::IukfEstimator, Rbpf as a sim::RbpfEstimator (a new filter per estimator,
+/// with the given one's models and options) and ParticleFilter as a sim::PfEstimator (options.seed replaced
+/// by a draw from the estimator's stream at every run, as for the registered PF). Null otherwise.
+NativeMaker rbpf_maker(const py::handle& h, const std::string& name, const sim::Scenario& s) {
+  if (py::isinstance<AnyIukf>(h))
+    return h.cast<const AnyIukf&>().visit([&](const auto& f) -> NativeMaker {
+      using M = std::decay_t<decltype(f.motion())>;
+      check_fit(name, "Iukf", M::kDim, f.measurements().rows(), f.measurements().num_anchors(),
+                f.motion().dt(), s);
+      auto proto = std::make_shared<const Iukf<M>>(f);  // the filter without the Python accessors
+      return [name, proto] { return std::make_unique<sim::IukfEstimator<M>>(name, *proto); };
+    });
+  if (py::isinstance<AnyRbpf>(h))
+    return h.cast<const AnyRbpf&>().visit([&](const auto& f) -> NativeMaker {
+      using M = std::decay_t<decltype(f.motion())>;
+      check_fit(name, "Rbpf", M::kDim, f.measurements().rows(), f.num_anchors(), f.motion().dt(), s);
+      // Rbpf owns a thread pool and is not copyable: each estimator builds one with the same set-up.
+      auto proto = std::make_shared<const std::function<std::unique_ptr<rbpf::Rbpf<M>>()>>(
+          [motion = f.motion(), meas = f.measurements(), sight = f.sight_process(), quality = f.quality(),
+           start = f.belief(), options = f.options()] {
+            return std::make_unique<rbpf::Rbpf<M>>(motion, meas, sight, quality, start, options);
+          });
+      return [name, proto] { return std::make_unique<sim::RbpfEstimator<M>>(name, (*proto)()); };
+    });
+  if (py::isinstance<AnyPf>(h))
+    return h.cast<const AnyPf&>().visit([&](const auto& f) -> NativeMaker {
+      using M = std::decay_t<decltype(f.motion())>;
+      check_fit(name, "ParticleFilter", M::kDim, f.measurements().rows(), f.measurements().num_anchors(),
+                f.motion().dt(), s);
+      return [name, motion = f.motion(), meas = f.measurements(), sight = f.sight_process(),
+              quality = f.quality(), options = f.options()] {
+        return std::make_unique<sim::PfEstimator<M>>(name, motion, meas, sight, quality, options);
+      };
+    });
+  return nullptr;
+}
+
+}  // namespace nlosloc::bind

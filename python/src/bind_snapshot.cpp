@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "bind.hpp"
+#include "native_makers.hpp"
+#include "nlosloc/snapshot/estimator.hpp"
 #include "nlosloc/snapshot/snapshot.hpp"
 
 namespace py = pybind11;
@@ -254,3 +256,30 @@ void bind_snapshot(py::module_& m) {
         .def_property_readonly("path_metrics", &Urruela::path_metrics, "Viterbi metrics (minimum 0).");
   }
 }
+
+namespace nlosloc::bind {
+
+/// A snapshot baseline of nlosloc.snapshot (MleLos, Chen, Cong, Urruela) as a sim::SnapshotEstimator over
+/// a copy. Null when `h` is none of them.
+template <class Solver>
+NativeMaker snapshot_maker_of(const py::handle& h, const std::string& name, const char* what,
+                              const sim::Scenario& s) {
+  if (!py::isinstance<Solver>(h)) return nullptr;
+  auto proto = std::make_shared<const Solver>(h.cast<const Solver&>());
+  const MeasurementStack& st = proto->solver().stack();
+  check_fit(name, what, st.layout().dim, st.rows(), st.num_anchors(), std::nan(""), s);
+  if (st.layout().space_dim != s.space_dim())
+    throw py::value_error(who(name, what) + "solves for " + std::to_string(st.layout().space_dim) +
+                          "-D positions; scenario " + s.name() + " is " + std::to_string(s.space_dim()) +
+                          "-D");
+  return [name, proto] { return sim::make_snapshot_estimator(name, *proto); };
+}
+
+NativeMaker snapshot_maker(const py::handle& h, const std::string& name, const sim::Scenario& s) {
+  if (NativeMaker m = snapshot_maker_of<snapshot::MleLos>(h, name, "MleLos", s)) return m;
+  if (NativeMaker m = snapshot_maker_of<snapshot::Chen>(h, name, "Chen", s)) return m;
+  if (NativeMaker m = snapshot_maker_of<snapshot::Cong>(h, name, "Cong", s)) return m;
+  return snapshot_maker_of<snapshot::Urruela>(h, name, "Urruela", s);
+}
+
+}  // namespace nlosloc::bind

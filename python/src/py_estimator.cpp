@@ -20,12 +20,9 @@
 #include <utility>
 
 #include "any_filter.hpp"
-#include "any_rbpf.hpp"
+#include "native_makers.hpp"
 #include "nlosloc/core/random.hpp"
 #include "nlosloc/sim/estimators.hpp"
-#include "nlosloc/sim/h1.hpp"
-#include "nlosloc/sim/k1.hpp"
-#include "nlosloc/snapshot/estimator.hpp"
 
 namespace py = pybind11;
 
@@ -160,37 +157,6 @@ class PythonEstimator final : public sim::Estimator {
   std::thread::id owner_ = std::this_thread::get_id();  // the runner makes and drops it on one worker
 };
 
-/// What the runner's native estimators are made from: each call returns a new sim::Estimator over a copy of
-/// (or, for the particle filters, a filter built with the set-up of) an object given from Python, as it was
-/// when it was given; the Python object is not touched, and the estimators run without the GIL.
-using NativeMaker = std::function<std::unique_ptr<sim::Estimator>()>;
-
-/// "estimators: the <what> of '<name>' " for the messages.
-std::string who(const std::string& name, const char* what) {
-  return std::string("estimators: the ") + what + " of '" + name + "' ";
-}
-
-std::string repr_double(double v) { return py::repr(py::float_(v)).cast<std::string>(); }
-
-/// ValueError naming the estimator when an object's state size, measurement rows, anchors or time step
-/// differ from scenario s's (dt NaN: not checked, the snapshot solvers have none; anchors -1 likewise).
-void check_fit(const std::string& name, const char* what, int n, Eigen::Index rows, Eigen::Index anchors,
-               double dt, const sim::Scenario& s) {
-  const std::string w = who(name, what);
-  if (n != s.state_dim())
-    throw py::value_error(w + "has a state of " + std::to_string(n) + " components; scenario " + s.name() +
-                          " has " + std::to_string(s.state_dim()));
-  if (rows != s.measurements().rows())
-    throw py::value_error(w + "has " + std::to_string(rows) + " measurement rows; scenario " + s.name() +
-                          " has " + std::to_string(s.measurements().rows()));
-  if (anchors >= 0 && anchors != s.anchors().rows())
-    throw py::value_error(w + "has " + std::to_string(anchors) + " anchors; scenario " + s.name() + " has " +
-                          std::to_string(s.anchors().rows()));
-  if (!std::isnan(dt) && !(std::abs(dt - s.dt()) <= 1e-12 * std::max(1.0, std::abs(s.dt()))))
-    throw py::value_error(w + "predicts over dt = " + repr_double(dt) + " s; scenario " + s.name() +
-                          " samples every " + repr_double(s.dt()) + " s");
-}
-
 /// An Ekf, Ukf or UkfAugmented of nlosloc.filters as a GaussianFilterEstimator (the draw's initial belief at
 /// t = 0, update at step 0, predict + update after). Null when `h` is no such filter.
 template <template <class> class F>
@@ -207,91 +173,6 @@ NativeMaker gaussian_maker(const py::handle& h, const std::string& name, sim::Si
       return sim::make_filter_estimator(name, f, sight);
     });
   };
-}
-
-/// nlosloc.rbpf.Iukf as a sim::IukfEstimator, Rbpf as a sim::RbpfEstimator (a new filter per estimator,
-/// with the given one's models and options) and ParticleFilter as a sim::PfEstimator (options.seed replaced
-/// by a draw from the estimator's stream at every run, as for the registered PF). Null otherwise.
-NativeMaker rbpf_maker(const py::handle& h, const std::string& name, const sim::Scenario& s) {
-  if (py::isinstance<AnyIukf>(h))
-    return h.cast<const AnyIukf&>().visit([&](const auto& f) -> NativeMaker {
-      using M = std::decay_t<decltype(f.motion())>;
-      check_fit(name, "Iukf", M::kDim, f.measurements().rows(), f.measurements().num_anchors(),
-                f.motion().dt(), s);
-      auto proto = std::make_shared<const Iukf<M>>(f);  // the filter without the Python accessors
-      return [name, proto] { return std::make_unique<sim::IukfEstimator<M>>(name, *proto); };
-    });
-  if (py::isinstance<AnyRbpf>(h))
-    return h.cast<const AnyRbpf&>().visit([&](const auto& f) -> NativeMaker {
-      using M = std::decay_t<decltype(f.motion())>;
-      check_fit(name, "Rbpf", M::kDim, f.measurements().rows(), f.num_anchors(), f.motion().dt(), s);
-      // Rbpf owns a thread pool and is not copyable: each estimator builds one with the same set-up.
-      auto proto = std::make_shared<const std::function<std::unique_ptr<rbpf::Rbpf<M>>()>>(
-          [motion = f.motion(), meas = f.measurements(), sight = f.sight_process(), quality = f.quality(),
-           start = f.belief(), options = f.options()] {
-            return std::make_unique<rbpf::Rbpf<M>>(motion, meas, sight, quality, start, options);
-          });
-      return [name, proto] { return std::make_unique<sim::RbpfEstimator<M>>(name, (*proto)()); };
-    });
-  if (py::isinstance<AnyPf>(h))
-    return h.cast<const AnyPf&>().visit([&](const auto& f) -> NativeMaker {
-      using M = std::decay_t<decltype(f.motion())>;
-      check_fit(name, "ParticleFilter", M::kDim, f.measurements().rows(), f.measurements().num_anchors(),
-                f.motion().dt(), s);
-      return [name, motion = f.motion(), meas = f.measurements(), sight = f.sight_process(),
-              quality = f.quality(), options = f.options()] {
-        return std::make_unique<sim::PfEstimator<M>>(name, motion, meas, sight, quality, options);
-      };
-    });
-  return nullptr;
-}
-
-/// The Ke & Wu trackers of nlosloc.mitigation (QpBiasEkf, BiasAugmentedEkf: state [x, y, vx, vy], one
-/// range row per anchor) as their sim estimators, over a copy. Null otherwise.
-NativeMaker mitigation_maker(const py::handle& h, const std::string& name, const sim::Scenario& s) {
-  auto check = [&](const char* what, int anchors, double dt) {
-    check_fit(name, what, 4, anchors, anchors, dt, s);
-    const StateLayout& L = s.measurements().layout();
-    if (L.position != 0 || L.space_dim != 2 || L.velocity != 2)
-      throw py::value_error(who(name, what) + "tracks [x, y, vx, vy]; scenario " + s.name() +
-                            " has another state layout");
-  };
-  if (py::isinstance<mitigation::QpBiasEkf>(h)) {
-    // copied here, with the GIL: a solver that cannot be cloned is refused now, not on a worker
-    auto proto = std::make_shared<const mitigation::QpBiasEkf>(h.cast<const mitigation::QpBiasEkf&>());
-    check("QpBiasEkf", proto->num_anchors(), proto->motion().dt());
-    return [name, proto] { return std::make_unique<sim::QpBiasEkfEstimator>(name, *proto); };
-  }
-  if (py::isinstance<mitigation::BiasAugmentedEkf>(h)) {
-    auto proto =
-        std::make_shared<const mitigation::BiasAugmentedEkf>(h.cast<const mitigation::BiasAugmentedEkf&>());
-    check("BiasAugmentedEkf", proto->num_anchors(), proto->motion().dt());
-    return [name, proto] { return std::make_unique<sim::BiasAugmentedEkfEstimator>(name, *proto); };
-  }
-  return nullptr;
-}
-
-/// A snapshot baseline of nlosloc.snapshot (MleLos, Chen, Cong, Urruela) as a sim::SnapshotEstimator over
-/// a copy. Null when `h` is none of them.
-template <class Solver>
-NativeMaker snapshot_maker_of(const py::handle& h, const std::string& name, const char* what,
-                              const sim::Scenario& s) {
-  if (!py::isinstance<Solver>(h)) return nullptr;
-  auto proto = std::make_shared<const Solver>(h.cast<const Solver&>());
-  const MeasurementStack& st = proto->solver().stack();
-  check_fit(name, what, st.layout().dim, st.rows(), st.num_anchors(), std::nan(""), s);
-  if (st.layout().space_dim != s.space_dim())
-    throw py::value_error(who(name, what) + "solves for " + std::to_string(st.layout().space_dim) +
-                          "-D positions; scenario " + s.name() + " is " + std::to_string(s.space_dim()) +
-                          "-D");
-  return [name, proto] { return sim::make_snapshot_estimator(name, *proto); };
-}
-
-NativeMaker snapshot_maker(const py::handle& h, const std::string& name, const sim::Scenario& s) {
-  if (NativeMaker m = snapshot_maker_of<snapshot::MleLos>(h, name, "MleLos", s)) return m;
-  if (NativeMaker m = snapshot_maker_of<snapshot::Chen>(h, name, "Chen", s)) return m;
-  if (NativeMaker m = snapshot_maker_of<snapshot::Cong>(h, name, "Cong", s)) return m;
-  return snapshot_maker_of<snapshot::Urruela>(h, name, "Urruela", s);
 }
 
 /// The native estimator of any object above, or null. `sight` (the entry's third item) goes with the
@@ -329,6 +210,31 @@ sim::EstimatorSpec registered(const sim::Registry& reg, const sim::Scenario& s, 
 }
 
 }  // namespace
+
+/// "estimators: the <what> of '<name>' " for the messages.
+std::string who(const std::string& name, const char* what) {
+  return std::string("estimators: the ") + what + " of '" + name + "' ";
+}
+
+/// ValueError naming the estimator when an object's state size, measurement rows, anchors or time step
+/// differ from scenario s's (dt NaN: not checked, the snapshot solvers have none; anchors -1 likewise).
+void check_fit(const std::string& name, const char* what, int n, Eigen::Index rows, Eigen::Index anchors,
+               double dt, const sim::Scenario& s) {
+  const std::string w = who(name, what);
+  auto repr_double = [](double v) { return py::repr(py::float_(v)).cast<std::string>(); };
+  if (n != s.state_dim())
+    throw py::value_error(w + "has a state of " + std::to_string(n) + " components; scenario " + s.name() +
+                          " has " + std::to_string(s.state_dim()));
+  if (rows != s.measurements().rows())
+    throw py::value_error(w + "has " + std::to_string(rows) + " measurement rows; scenario " + s.name() +
+                          " has " + std::to_string(s.measurements().rows()));
+  if (anchors >= 0 && anchors != s.anchors().rows())
+    throw py::value_error(w + "has " + std::to_string(anchors) + " anchors; scenario " + s.name() + " has " +
+                          std::to_string(s.anchors().rows()));
+  if (!std::isnan(dt) && !(std::abs(dt - s.dt()) <= 1e-12 * std::max(1.0, std::abs(s.dt()))))
+    throw py::value_error(w + "predicts over dt = " + repr_double(dt) + " s; scenario " + s.name() +
+                          " samples every " + repr_double(s.dt()) + " s");
+}
 
 py::dict draw_to_dict(sim::Draw d) {
   py::dict r;
