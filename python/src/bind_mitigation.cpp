@@ -19,6 +19,7 @@
 #include "native_makers.hpp"
 #include "nlosloc/mitigation/mitigation.hpp"
 #include "nlosloc/sim/k1.hpp"
+#include "py_object.hpp"
 
 namespace py = pybind11;
 using namespace nlosloc;
@@ -35,44 +36,31 @@ std::unique_ptr<BoxQp> solver_by_name(const std::string& name, int n, const BoxQ
                               name + "'");
 }
 
-/// "an array of shape (a, b)" or "an object of type T", for the messages.
-std::string describe_result(const py::handle& r, const py::array& as) {
-  if (as && as.ndim() <= 2) {
-    std::string s = "an array of shape (";
-    for (py::ssize_t i = 0; i < as.ndim(); ++i) s += (i > 0 ? ", " : "") + std::to_string(as.shape(i));
-    return s + (as.ndim() == 1 ? ",)" : ")");
-  }
-  return std::string("an object of type ") +
-         py::str(py::type::handle_of(r).attr("__name__")).cast<std::string>();
-}
-
 /// A BoxQp whose solve() calls a Python object's solve(H, g, lower, upper), which returns the minimiser
 /// (n,) or None when it found none (status kFailed): how Python users plug in their own QP solver, as C++
 /// users derive from BoxQp. Every call takes the GIL (the trackers' run() and the Monte Carlo workers call
 /// it without). A result of the wrong shape, or outside the box by more than 1e-6 (1 + |bound|), raises
 /// ValueError naming the solver (the tracker is then unchanged); a non-finite one is a failure (kFailed),
 /// as for the C++ solvers; one within that tolerance is projected onto the box, as ProxsuiteBoxQp's is.
-/// clone() is copy.deepcopy of the object, so a tracker holding one can be copied (Monte Carlo workers).
+/// clone() is copy.deepcopy of the object, so a tracker holding one can be copied (Monte Carlo workers); the
+/// object is held as a SharedObject, released with the GIL on whatever thread the tracker dies.
 class PythonBoxQp final : public BoxQp {
  public:
   /// With the GIL. TypeError when obj has no callable solve.
-  PythonBoxQp(py::object obj, int n) : obj_(std::move(obj)), n_(n) {
-    if (py::hasattr(obj_, "solve")) solve_ = obj_.attr("solve");
-    if (!solve_ || PyCallable_Check(solve_.ptr()) == 0)
+  PythonBoxQp(py::object obj, int n) : obj_(bind::share(std::move(obj))), n_(n) {
+    py::object solve;
+    if (py::hasattr(*obj_, "solve")) solve = obj_->attr("solve");
+    if (!solve || PyCallable_Check(solve.ptr()) == 0)
       throw py::type_error(
           "solver: expected a solver name (str) or an object with a method solve(H, g, "
           "lower, upper), got " +
-          describe_result(obj_, py::array()));
-    const py::object nm = py::getattr(obj_, "name", py::none());
+          bind::describe(*obj_));
+    solve_ = bind::share(std::move(solve));
+    const py::object nm = py::getattr(*obj_, "name", py::none());
     name_ = py::isinstance<py::str>(nm)
                 ? nm.cast<std::string>()
-                : py::str(py::type::handle_of(obj_).attr("__name__")).cast<std::string>();
+                : py::str(py::type::handle_of(*obj_).attr("__name__")).cast<std::string>();
     x_.setZero(n);
-  }
-  ~PythonBoxQp() override {
-    py::gil_scoped_acquire gil;  // the last owner may be a worker thread without it
-    solve_ = py::object();
-    obj_ = py::object();
   }
   PythonBoxQp(const PythonBoxQp&) = delete;
   PythonBoxQp& operator=(const PythonBoxQp&) = delete;
@@ -82,7 +70,7 @@ class PythonBoxQp final : public BoxQp {
   const VecX& x() const override { return x_; }
   std::unique_ptr<BoxQp> clone() const override {
     py::gil_scoped_acquire gil;
-    auto c = std::make_unique<PythonBoxQp>(py::module_::import("copy").attr("deepcopy")(obj_), n_);
+    auto c = std::make_unique<PythonBoxQp>(py::module_::import("copy").attr("deepcopy")(*obj_), n_);
     c->x_ = x_;
     return c;
   }
@@ -93,7 +81,7 @@ class PythonBoxQp final : public BoxQp {
     QpResult res;
     res.objective = std::nan("");
     py::gil_scoped_acquire gil;
-    const py::object r = solve_(MatX(H), VecX(g), VecX(lower), VecX(upper));
+    const py::object r = (*solve_)(MatX(H), VecX(g), VecX(lower), VecX(upper));
     if (r.is_none()) {
       res.status = QpStatus::kFailed;
       x_.setZero();
@@ -101,7 +89,7 @@ class PythonBoxQp final : public BoxQp {
     }
     const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(r);
     if (!a || a.ndim() != 1 || a.size() != n_)
-      throw py::value_error("solver: solve() of '" + name_ + "' returned " + describe_result(r, a) +
+      throw py::value_error("solver: solve() of '" + name_ + "' returned " + bind::describe(r, a) +
                             "; expected the " + std::to_string(n_) + " values of the minimiser, or None");
     VecX x = Eigen::Map<const VecX>(a.data(), n_);
     if (!x.allFinite()) {
@@ -124,18 +112,11 @@ class PythonBoxQp final : public BoxQp {
   }
 
  private:
-  py::object obj_, solve_;
+  bind::SharedObject obj_, solve_;  // dropped with the GIL, on whatever thread the tracker dies
   int n_;
   std::string name_;
   VecX x_;
 };
-
-/// BoxQp::clone() of a solver made by make_box_qp (every built-in one clones).
-std::unique_ptr<BoxQp> clone_box_qp(const BoxQp& q) {
-  std::unique_ptr<BoxQp> c = q.clone();
-  if (!c) throw std::invalid_argument("the BoxQp '" + q.name() + "' cannot be copied");
-  return c;
-}
 
 /// The trackers' `solver` argument: a name (solver_by_name; "default" gives null when `default_null`, the
 /// tracker's own choice) or a Python solver object (PythonBoxQp).

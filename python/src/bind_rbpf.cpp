@@ -158,6 +158,13 @@ void particle_filter_methods(C& c) {
           "Restarts from N(mean, cov) at time t0 (validated; a rejected call changes nothing).");
 }
 
+/// Log weights of the merge and prune helpers: finite or -inf (a particle ruled out), never NaN or +inf.
+void check_log_weights(const VecX& logw) {
+  NLOSLOC_ENSURE(
+      !logw.array().isNaN().any() && !(logw.array() == std::numeric_limits<double>::infinity()).any(),
+      "logw: expected log weights that are finite or -inf (no NaN, no +inf)");
+}
+
 /// Per-anchor log factors A (B, N_z) of the offspring enumerations: B, N_z >= 1, no NaN or +inf (-inf: a
 /// condition ruled out).
 void check_factors(const MatX& A) {
@@ -472,9 +479,7 @@ void bind_rbpf(py::module_& m) {
             static_cast<Eigen::Index>(keys.size()) == means.cols() && logw.size() == means.cols(),
             "keys, means, logw: expected one key, one mean column and one log weight per particle");
         nlosloc::detail::ensure_finite(means, "means");
-        NLOSLOC_ENSURE(
-            !logw.array().isNaN().any() && !(logw.array() == std::numeric_limits<double>::infinity()).any(),
-            "logw: expected log weights that are finite or -inf (no NaN, no +inf)");
+        check_log_weights(logw);
         nlosloc::detail::ensure_nonnegative(d_min, "d_min");
         NLOSLOC_ENSURE(threads >= 1, "threads: expected an integer >= 1, got " + std::to_string(threads));
         auto close = [&](int a, int b) { return (means.col(a) - means.col(b)).norm() < d_min; };
@@ -534,9 +539,7 @@ void bind_rbpf(py::module_& m) {
       "select_top",
       [](const VecX& logw, int M) {
         NLOSLOC_ENSURE(M >= 1, "M: expected an integer >= 1, got " + std::to_string(M));
-        NLOSLOC_ENSURE(
-            !logw.array().isNaN().any() && !(logw.array() == std::numeric_limits<double>::infinity()).any(),
-            "logw: expected log weights that are finite or -inf (no NaN, no +inf)");
+        check_log_weights(logw);
         std::vector<int> out;
         select_top(logw.data(), static_cast<int>(logw.size()), M, out);
         return out;

@@ -42,24 +42,6 @@ py::array_t<double> vector_array(const Eigen::Ref<const VecX>& v) {
   return a;
 }
 
-/// "an array of shape (a, b)" or "an object of type T", for the messages.
-std::string describe(const py::handle& r) {
-  if (py::isinstance<py::array>(r)) {
-    const auto a = py::reinterpret_borrow<py::array>(r);
-    std::string s = "an array of shape (";
-    for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i > 0 ? ", " : "") + std::to_string(a.shape(i));
-    return s + (a.ndim() == 1 ? ",)" : ")");
-  }
-  return std::string("an object of type ") +
-         py::str(py::type::handle_of(r).attr("__name__")).cast<std::string>();
-}
-
-/// describe(r), and the shape numpy read it as when r is not an array (a list, None: a 0-d NaN).
-std::string describe(const py::handle& r, const py::array& as) {
-  if (!as || py::isinstance<py::array>(r)) return describe(r);
-  return describe(r) + ", read as " + describe(as);
-}
-
 /// obj.<method>, which must be callable; TypeError naming the estimator otherwise.
 py::object method(const py::object& obj, const char* m, const std::string& name, const char* signature) {
   if (py::hasattr(obj, m)) {

@@ -7,23 +7,13 @@
 
 #include <memory>
 #include <optional>
-#include <utility>
 #include <vector>
 
 #include "nlosloc/sim/montecarlo.hpp"
 #include "nlosloc/sim/scenario.hpp"
+#include "py_object.hpp"
 
 namespace nlosloc::bind {
-
-/// A Python object shared by C++ threads (the runner's workers): copying the pointer touches no Python
-/// reference count, and the last owner drops the object with the GIL taken, on whatever thread it is.
-using SharedObject = std::shared_ptr<pybind11::object>;
-inline SharedObject share(pybind11::object o) {
-  return SharedObject(new pybind11::object(std::move(o)), [](pybind11::object* p) {
-    pybind11::gil_scoped_acquire gil;
-    delete p;
-  });
-}
 
 /// The dict of one draw: states, positions, y, sight, quality, initial_mean, initial_cov (numpy arrays)
 /// and scenario, case, seed, run, dt. Takes the draw by value: a temporary's arrays move into numpy.

@@ -79,6 +79,16 @@ class BoxQp {
   virtual std::unique_ptr<BoxQp> clone() const { return nullptr; }
 };
 
+/// q.clone(), or std::invalid_argument naming the solver when it cannot be copied (clone() returns null).
+inline std::unique_ptr<BoxQp> clone_box_qp(const BoxQp& q) {
+  std::unique_ptr<BoxQp> c = q.clone();
+  if (!c)
+    throw std::invalid_argument("solver: the BoxQp '" + q.name() +
+                                "' cannot be copied (its clone() returns null); give each copy its own "
+                                "solver instead");
+  return c;
+}
+
 /// Owns a BoxQp and copies it through BoxQp::clone(): what lets BiasEstimator and QpBiasEkf be copied.
 /// Copying a solver whose clone() returns null throws std::invalid_argument naming it (and, assigned,
 /// leaves the target unchanged).
@@ -101,13 +111,7 @@ class BoxQpHandle {
 
  private:
   static std::unique_ptr<BoxQp> clone_of(const BoxQpHandle& o) {
-    if (!o.p_) return nullptr;
-    std::unique_ptr<BoxQp> c = o.p_->clone();
-    if (!c)
-      throw std::invalid_argument("solver: the BoxQp '" + o.p_->name() +
-                                  "' cannot be copied (its clone() returns null); give each copy its own "
-                                  "solver instead");
-    return c;
+    return o.p_ ? clone_box_qp(*o.p_) : nullptr;
   }
   std::unique_ptr<BoxQp> p_;
 };
