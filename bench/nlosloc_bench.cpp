@@ -4,7 +4,11 @@
 ///
 ///   nlosloc-bench list
 ///   nlosloc-bench run K1 --runs 100 --seed 1 [--threads T] [--case C ...] [--estimators E ...]
-///                        [--steps T] [--json FILE] [--quick] [--quiet]
+///                        [--steps T] [--first-run F] [--json FILE] [--quick] [--quiet]
+///
+/// --first-run F runs F .. F + runs - 1, each exactly as in a run from 0: `--first-run 57 --runs 1` replays
+/// run 57 of a long run alone (the tables then name the runs). The JSON keeps pooled statistics only, so
+/// chunks of one long run are joined in Python (nlosloc.montecarlo.merge), not from these files.
 ///
 /// Progress goes to stderr, tables to stdout; exit code 2 on a bad argument (unknown scenario, case or
 /// estimator, a value out of range such as --steps 0 or --seed -1, or one that does not parse), 1 on any
@@ -102,6 +106,7 @@ int cmd_list(const Registry& reg) {
 struct RunArgs {
   std::string scenario;
   int runs = 100;
+  std::uint64_t first_run = 0;
   std::uint64_t seed = 1;
   int threads = 0;
   int steps = 0;
@@ -147,6 +152,9 @@ int cmd_run(const Registry& reg, RunArgs a) {
   refuse_repeats(a.cases, "--case");
   refuse_repeats(a.estimators, "--estimators");
   if (a.runs < 1) throw UsageError("--runs: expected >= 1, got " + std::to_string(a.runs));
+  if (a.first_run > std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(a.runs - 1))
+    throw UsageError("--first-run: expected --first-run + --runs - 1 <= 18446744073709551615, got " +
+                     std::to_string(a.first_run) + " with --runs " + std::to_string(a.runs));
   if (a.threads < 0)
     throw UsageError("--threads: expected >= 0 (0 = all cores), got " + std::to_string(a.threads));
   const int steps = a.steps > 0 ? a.steps : s.steps();
@@ -172,6 +180,7 @@ int cmd_run(const Registry& reg, RunArgs a) {
   for (const std::string& c : a.cases) {
     sim::MonteCarloOptions opt;
     opt.runs = a.runs;
+    opt.first_run = a.first_run;
     opt.seed = a.seed;
     opt.threads = a.threads;
     opt.steps = steps;
@@ -211,7 +220,8 @@ int cmd_run(const Registry& reg, RunArgs a) {
   }
   if (a.scenario == "K3") fmt::print("K3: probability that the position error is at most 5 m\n{}\n", extra);
   if (a.scenario == "K2")  // identification per sample, ranging and position error (Ke & Wu Figs. 3-5)
-    fmt::print("{}\n", sim::format_k2_study(sim::run_k2_study(reg, a.runs, a.seed, steps, a.estimators)));
+    fmt::print("{}\n", sim::format_k2_study(
+                           sim::run_k2_study(reg, a.runs, a.seed, steps, a.estimators, a.first_run)));
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
   fmt::print("total wall time {:.2f} s ({} threads)\n", wall, threads_used);
 
@@ -227,6 +237,7 @@ int cmd_run(const Registry& reg, RunArgs a) {
           {"cases", a.cases},
           {"estimators", a.estimators},
           {"runs", a.runs},
+          {"first_run", a.first_run},
           {"seed", a.seed},
           {"threads", threads_used},
           {"steps", steps},
@@ -264,6 +275,9 @@ int main(int argc, char** argv) {
   const unsigned long long int_max = static_cast<unsigned long long>(std::numeric_limits<int>::max());
   CLI::Option* runs_opt = run->add_option("--runs,-n", a.runs, "Monte Carlo runs (default 100)")
                               ->transform(nlosloc::bench::decimal(int_max, true));
+  run->add_option("--first-run", a.first_run,
+                  "Index of the first run: runs F .. F + runs - 1, each as in a run from 0 (default 0)")
+      ->transform(nlosloc::bench::decimal(std::numeric_limits<std::uint64_t>::max()));
   run->add_option("--seed,-s", a.seed, "Seed: run r draws from Rng(seed, r) (default 1)")
       ->transform(nlosloc::bench::decimal(std::numeric_limits<std::uint64_t>::max()));
   run->add_option("--threads,-t", a.threads, "Worker threads (default 0 = all cores)")

@@ -49,7 +49,7 @@ if [ ${#unformatted[@]} -gt 0 ]; then
   echo "clang-format: ${#unformatted[@]} file(s) differ (fix: clang-format -i ${unformatted[*]})" >&2
   exit 1
 fi
-.venv/bin/ruff format --check --diff python tests/python bench examples
-.venv/bin/ruff check python tests/python bench examples
+.venv/bin/ruff format --check --diff python tests/python tests/cli bench examples
+.venv/bin/ruff check python tests/python tests/cli bench examples
 
 step "all checks passed"

@@ -193,6 +193,7 @@ void bind_k2_study(py::module_& m) {
 
   py::class_<sim::K2Study>(m, "K2Study", "The K2 study: Ke & Wu Figs. 3-5 as numbers (means over runs).")
       .def_readonly("runs", &sim::K2Study::runs)
+      .def_readonly("first_run", &sim::K2Study::first_run, "Index of the first run averaged.")
       .def_readonly("steps", &sim::K2Study::steps)
       .def_readonly("period", &sim::K2Study::period)
       .def_readonly("discard", &sim::K2Study::discard)
@@ -204,27 +205,31 @@ void bind_k2_study(py::module_& m) {
   // study runs without it (a Python estimator takes it for each call).
   const auto study = [](const std::shared_ptr<sim::K2>& scenario, int runs,
                         const nlosloc::bind::UInt64Arg& seed, std::optional<int> steps,
-                        const std::optional<py::sequence>& estimators) {
+                        const std::optional<py::sequence>& estimators,
+                        const nlosloc::bind::UInt64Arg& first_run) {
     const std::uint64_t s = seed.get("seed");
+    const std::uint64_t f = first_run.get("first_run");
     const int t = nlosloc::bind::steps_arg(steps);
     const std::vector<sim::EstimatorSpec> specs =
         nlosloc::bind::estimator_specs(python_registry(), scenario, estimators);
     py::gil_scoped_release release;
-    return sim::run_k2_study(*scenario, runs, s, t, specs);
+    return sim::run_k2_study(*scenario, runs, s, t, specs, f);
   };
   m.def(
       "run_k2_study",
       [study](int runs, const nlosloc::bind::UInt64Arg& seed, std::optional<int> steps,
-              const std::optional<py::sequence>& estimators) {
+              const std::optional<py::sequence>& estimators, const nlosloc::bind::UInt64Arg& first_run) {
         auto k2 = std::dynamic_pointer_cast<sim::K2>(
             std::const_pointer_cast<sim::Scenario>(python_registry().scenario_ptr("K2")));
         if (!k2) throw std::logic_error("run_k2_study: the registry's K2 is not a sim::K2");
-        return study(k2, runs, seed, steps, estimators);
+        return study(k2, runs, seed, steps, estimators, first_run);
       },
       py::arg("runs"), py::arg("seed"), py::arg("steps") = py::none(), py::arg("estimators") = py::none(),
+      py::kw_only(), py::arg("first_run") = nlosloc::bind::UInt64Arg(0),
       R"doc(The K2 study of Ke & Wu Sec. 6.2 (Figs. 3-5): every estimator registered for K2 (or
-``estimators``) on ``runs`` draws ``Rng(seed, r)`` of the registered K2, one thread, the same draws
-as :func:`run_monte_carlo`; position error, ranging error and sight identification averaged over runs.
+``estimators``) on the draws ``Rng(seed, r)``, r = ``first_run`` .. ``first_run + runs - 1``, of the
+registered K2, one thread, the same draws as :func:`run_monte_carlo`; position error, ranging error
+and sight identification averaged over runs.
 
 Parameters
 ----------
@@ -237,6 +242,8 @@ steps : int, optional
 estimators : list, optional
     Registered estimator names and ``(name, factory)`` pairs of estimators written in Python, as in
     :func:`run_monte_carlo`; default all registered for K2.
+first_run : int, default 0
+    Index of the first run (keyword only), as in :func:`run_monte_carlo`.
 
 Returns
 -------
@@ -245,12 +252,14 @@ K2Study
 Raises
 ------
 ValueError
-    On a bad count, a negative seed, an unknown estimator or a name given twice.
+    On a bad count, a negative seed or first_run, first_run + runs - 1 beyond 2^64 - 1, an unknown
+    estimator or a name given twice.
 TypeError
     On a malformed entry of ``estimators`` (see :func:`run_monte_carlo`).
 )doc");
   m.def("run_k2_study", study, py::arg("scenario"), py::arg("runs"), py::arg("seed"),
-        py::arg("steps") = py::none(), py::arg("estimators") = py::none(),
+        py::arg("steps") = py::none(), py::arg("estimators") = py::none(), py::kw_only(),
+        py::arg("first_run") = nlosloc::bind::UInt64Arg(0),
         R"doc(The K2 study of a K2 built with custom parameters, e.g. ``K2(p)`` with another period.
 
 The same as the overload without a scenario, on this scenario's draws; registered estimators are
@@ -260,7 +269,7 @@ Parameters
 ----------
 scenario : K2
     The scenario.
-runs, seed, steps, estimators
+runs, seed, steps, estimators, first_run
     As in the overload without a scenario.
 
 Returns

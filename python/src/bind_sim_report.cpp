@@ -62,6 +62,8 @@ sim::MonteCarloResult result_from_dict(const py::dict& d, const sim::Scenario* s
   r.scenario = typed_item<std::string>(d, "scenario", w, "str");
   r.case_name = typed_item<std::string>(d, "case", w, "str");
   r.runs = typed_item<int>(d, "runs", w, "int");
+  // optional: a result dict written by hand, or before first_run existed, starts at run 0
+  if (d.contains("first_run")) r.first_run = typed_item<std::uint64_t>(d, "first_run", w, "an int >= 0");
   r.steps = typed_item<int>(d, "steps", w, "int");
   r.discard = typed_item<int>(d, "discard", w, "int");
   r.threads = typed_item<int>(d, "threads", w, "int");
@@ -156,6 +158,7 @@ void bind_sim_report(py::module_& m) {
       .def_readonly("scenario", &sim::CaseSummary::scenario)
       .def_readonly("case", &sim::CaseSummary::case_name)
       .def_readonly("runs", &sim::CaseSummary::runs)
+      .def_readonly("first_run", &sim::CaseSummary::first_run, "Index of the first run summarised.")
       .def_readonly("steps", &sim::CaseSummary::steps)
       .def_readonly("discard", &sim::CaseSummary::discard)
       .def_readonly("wall_seconds", &sim::CaseSummary::wall_seconds)

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,7 @@
 
 using namespace nlosloc;
 using namespace nlosloc::sim;
+using Catch::Matchers::StartsWith;
 
 namespace {
 /// K1-K3 only (the built-in registry also holds scenarios of other issues).
@@ -213,6 +216,17 @@ TEST_CASE("K2 study of a custom K2 with estimators given as factories", "[sim][k
   CHECK(st.estimators[1].range_error.cwiseAbs().maxCoeff() < 1e-9);
   REQUIRE(st.estimators[1].identification.size() == T);
   CHECK(st.estimators[1].identification.minCoeff() == 1.0);
+  // first_run: the runs 1..2 alone average the same draws as rows 1..2 of the runner.
+  const K2Study tail = run_k2_study(s, 2, 5, T, {ekf}, 1);
+  CHECK(tail.first_run == 1);
+  const VecX tail_mean = mc.estimator("EKF").errors.middleRows(1, 2).colwise().mean().transpose();
+  CHECK((tail.estimators[0].position_error - tail_mean).cwiseAbs().maxCoeff() < 1e-9);
+  CHECK((tail.estimators[0].position_error - st.estimators[0].position_error).cwiseAbs().maxCoeff() > 1e-3);
+  CHECK_THAT(format_k2_study(tail), StartsWith("K2 study: 2 runs (runs 1..2) x 160 steps"));
+  CHECK_THROWS_WITH(
+      run_k2_study(s, 2, 5, T, {ekf}, std::numeric_limits<std::uint64_t>::max()),
+      "first_run: expected first_run + runs - 1 <= 2^64 - 1, got first_run 18446744073709551615 "
+      "and runs 2");
 
   const auto message = [&](const std::vector<EstimatorSpec>& e, int runs_, int steps) {
     try {

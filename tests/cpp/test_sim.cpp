@@ -23,6 +23,7 @@
 using namespace nlosloc;
 using namespace nlosloc::sim;
 using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
 
@@ -324,6 +325,11 @@ TEST_CASE("runner first_run: runs first_run.. equal the same rows of a run from 
     CHECK(part.estimator(name).errors == rows);
   }
   CHECK(part.estimator("EKF").errors.minCoeff() > 0.0);  // the EKF rows are not the noise-free truth
+  // The tables name the runs of a chunk, so a table of runs 2..4 does not read as one of runs 0..2.
+  CHECK_THAT(format_percentile_table(summarize(k1, part)),
+             StartsWith("K1 case 2LOS/1NLOS: 3 runs (runs 2..4) x 110 steps, errors over steps k >= "));
+  CHECK_THAT(format_table(summarize(k1, full)), StartsWith("K1 case 2LOS/1NLOS: 6 runs x 110 steps, errors"));
+  CHECK(summarize(k1, part).first_run == 2);
   // The last possible run, and one past it.
   o.runs = 1;
   o.first_run = std::numeric_limits<std::uint64_t>::max();

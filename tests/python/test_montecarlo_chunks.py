@@ -79,6 +79,40 @@ def test_first_run_gives_the_same_runs_as_a_run_from_zero(full: dict) -> None:
         sim.run_monte_carlo("K1", CASE, 2, 3, ["EKF"], steps=STEPS, first_run=2**64 - 1)
 
 
+def test_summaries_and_the_k2_study_name_the_runs_of_a_chunk(full: dict) -> None:
+    part = sim.run_monte_carlo("K1", CASE, 3, 3, ESTIMATORS, steps=STEPS, first_run=2)
+    summary = sim.summarize("K1", part)
+    assert summary.first_run == 2
+    assert sim.format_table(summary).startswith(f"K1 case {CASE}: 3 runs (runs 2..4) x 110 steps")
+    assert sim.summarize("K1", full).first_run == 0
+    assert sim.format_table(sim.summarize("K1", full)).startswith(
+        f"K1 case {CASE}: 6 runs x 110 steps"
+    )
+    # a result dict without first_run (written by hand) starts at run 0; a bad one is named
+    legacy = {k: v for k, v in part.items() if k != "first_run"}
+    assert sim.summarize("K1", legacy).first_run == 0
+    with pytest.raises(ValueError, match=r"result\['first_run'\]: expected an int >= 0, got str"):
+        sim.summarize("K1", {**part, "first_run": "2"})
+
+    # K2: runs 1..2 alone average rows 1..2 of the runner's errors
+    mc = sim.run_monte_carlo("K2", "alternating", 3, 5, ["EKF"], steps=250)
+    tail = sim.run_k2_study(2, 5, 250, ["EKF"], first_run=1)
+    assert tail.first_run == 1
+    np.testing.assert_allclose(
+        tail.estimators[0].position_error,
+        mc["estimators"]["EKF"]["errors"][1:3].mean(axis=0),
+        rtol=0,
+        atol=1e-9,
+    )
+    assert sim.format_k2_study(tail).startswith("K2 study: 2 runs (runs 1..2) x 250 steps")
+    with pytest.raises(
+        ValueError, match="first_run: expected first_run \\+ runs - 1 <= 2\\^64 - 1"
+    ):
+        sim.run_k2_study(2, 5, 250, ["EKF"], first_run=2**64 - 1)
+    with pytest.raises(ValueError, match=r"first_run: expected an integer in \[0, 2\*\*64 - 1\]"):
+        sim.run_k2_study(sim.K2(), 1, 5, 250, ["EKF"], first_run=-1)
+
+
 def test_merge_joins_consecutive_chunks_in_any_order(full: dict) -> None:
     chunks = [
         sim.run_monte_carlo("K1", CASE, n, 3, ESTIMATORS, steps=STEPS, first_run=f)

@@ -165,17 +165,20 @@ struct K2EstimatorStudy {
 /// The K2 study: Figs. 3-5 of Ke & Wu Sec. 6.2 as numbers.
 struct K2Study {
   int runs = 0, steps = 0, period = 0, discard = 0;
-  VecXi nlos;  ///< T: 1 where the nodes are NLOS
+  std::uint64_t first_run = 0;  ///< the runs averaged are first_run .. first_run + runs - 1
+  VecXi nlos;                   ///< T: 1 where the nodes are NLOS
   std::vector<K2EstimatorStudy> estimators;
 };
 
-/// Runs `estimators` (each made once, with s and case 0) on `runs` draws Rng(seed, r) of scenario s, which
-/// may carry custom parameters (single thread; the same draws as the Monte Carlo runner), and averages
-/// position error, ranging error and identification. `steps` 0 = s.steps(). Throws std::invalid_argument
-/// on a bad count, no estimator, a name given twice or a factory that returns null.
+/// Runs `estimators` (each made once, with s and case 0) on the draws Rng(seed, r), r = first_run ..
+/// first_run + runs - 1, of scenario s, which may carry custom parameters (single thread; the same draws as
+/// the Monte Carlo runner with the same first_run), and averages position error, ranging error and
+/// identification. `steps` 0 = s.steps(). Throws std::invalid_argument on a bad count, first_run + runs - 1
+/// beyond 2^64 - 1, no estimator, a name given twice or a factory that returns null.
 inline K2Study run_k2_study(const K2& s, int runs, std::uint64_t seed, int steps,
-                            const std::vector<EstimatorSpec>& estimators) {
+                            const std::vector<EstimatorSpec>& estimators, std::uint64_t first_run = 0) {
   NLOSLOC_ENSURE(runs >= 1, "runs: expected >= 1, got " + std::to_string(runs));
+  detail::check_first_run(first_run, runs);
   NLOSLOC_ENSURE(steps >= 0,
                  "steps: expected >= 0 (0 = the scenario's default), got " + std::to_string(steps));
   check_estimator_specs(estimators);  // results are listed by name, as run_monte_carlo's
@@ -184,6 +187,7 @@ inline K2Study run_k2_study(const K2& s, int runs, std::uint64_t seed, int steps
   const auto B = A.rows();
   K2Study st;
   st.runs = runs;
+  st.first_run = first_run;
   st.steps = T;
   st.period = s.params().period;
   st.discard = s.discard();
@@ -203,9 +207,10 @@ inline K2Study run_k2_study(const K2& s, int runs, std::uint64_t seed, int steps
   VecX pos(2), o(B);
   VecXi sight(B);
   for (int r = 0; r < runs; ++r) {
-    const Draw d = s.draw("alternating", seed, static_cast<std::uint64_t>(r), T);
+    const std::uint64_t run = first_run + static_cast<std::uint64_t>(r);
+    const Draw d = s.draw("alternating", seed, run, T);
     for (std::size_t e = 0; e < est.size(); ++e) {
-      Rng rng(estimator_seed(seed, estimators[e].name), static_cast<std::uint64_t>(r));
+      Rng rng(estimator_seed(seed, estimators[e].name), run);
       est[e]->reset(d, rng);
       auto& out = st.estimators[e];
       for (int k = 0; k < T; ++k) {
@@ -232,13 +237,13 @@ inline K2Study run_k2_study(const K2& s, int runs, std::uint64_t seed, int steps
 
 /// The study of the registry's K2 with the estimators registered for it (all, or `names`).
 inline K2Study run_k2_study(const Registry& reg, int runs, std::uint64_t seed, int steps = 0,
-                            std::vector<std::string> names = {}) {
+                            std::vector<std::string> names = {}, std::uint64_t first_run = 0) {
   const auto* s = dynamic_cast<const K2*>(&reg.scenario("K2"));
   NLOSLOC_ENSURE(s != nullptr, "run_k2_study: the registry's K2 is not a sim::K2");
   if (names.empty()) names = reg.estimators("K2");
   std::vector<EstimatorSpec> specs;
   for (const auto& n : names) specs.push_back({n, reg.estimator("K2", n)});
-  return run_k2_study(*s, runs, seed, steps, specs);
+  return run_k2_study(*s, runs, seed, steps, specs, first_run);
 }
 
 /// Text summary of the K2 study: per estimator, mean position and ranging errors in NLOS and LOS blocks,
@@ -247,8 +252,8 @@ inline std::string format_k2_study(const K2Study& st) {
   std::string out;
   char b[512];
   std::snprintf(b, sizeof b,
-                "K2 study: %d runs x %d steps, nodes switch every %d samples, statistics over k >= %d\n",
-                st.runs, st.steps, st.period, st.discard);
+                "K2 study: %s x %d steps, nodes switch every %d samples, statistics over k >= %d\n",
+                detail::runs_label(st.runs, st.first_run).c_str(), st.steps, st.period, st.discard);
   out += b;
   std::snprintf(b, sizeof b, "  %-20s %12s %12s %12s %12s %10s %10s %10s %10s %10s\n", "estimator",
                 "pos NLOS m", "pos LOS m", "range NLOS", "range LOS", "ident all", "ident NLOS", "ident LOS",

@@ -41,6 +41,30 @@ struct MonteCarloOptions {
   int poll_interval_ms = 100;  ///< > 0
 };
 
+}  // namespace nlosloc::sim
+
+namespace nlosloc::detail {
+/// The runs first_run .. first_run + runs - 1 (runs >= 1) must be indices of Rng streams.
+inline void check_first_run(std::uint64_t first_run, int runs) {
+  NLOSLOC_ENSURE(
+      first_run <= std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(runs - 1),
+      "first_run: expected first_run + runs - 1 <= 2^64 - 1, got first_run " + std::to_string(first_run) +
+          " and runs " + std::to_string(runs));
+}
+
+/// "N runs" or, for a chunk that does not start at run 0, "N runs (runs F..L)" ("1 run (run F)"): a table of
+/// runs 40..59 must not read as runs 0..19.
+inline std::string runs_label(int runs, std::uint64_t first_run) {
+  std::string s = std::to_string(runs) + (runs == 1 ? " run" : " runs");
+  if (first_run == 0) return s;
+  if (runs == 1) return s + " (run " + std::to_string(first_run) + ")";
+  return s + " (runs " + std::to_string(first_run) + ".." +
+         std::to_string(first_run + static_cast<std::uint64_t>(runs) - 1) + ")";
+}
+}  // namespace nlosloc::detail
+
+namespace nlosloc::sim {
+
 /// A named estimator factory given to the runner.
 struct EstimatorSpec {
   std::string name;
@@ -112,10 +136,7 @@ inline MonteCarloResult run_monte_carlo(const Scenario& scenario, const std::str
                                         const std::vector<EstimatorSpec>& estimators,
                                         const MonteCarloOptions& opt = {}) {
   NLOSLOC_ENSURE(opt.runs >= 1, "runs: expected >= 1, got " + std::to_string(opt.runs));
-  NLOSLOC_ENSURE(
-      opt.first_run <= std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(opt.runs - 1),
-      "first_run: expected first_run + runs - 1 <= 2^64 - 1, got first_run " + std::to_string(opt.first_run) +
-          " and runs " + std::to_string(opt.runs));
+  detail::check_first_run(opt.first_run, opt.runs);
   NLOSLOC_ENSURE(opt.threads >= 0,
                  "threads: expected >= 0 (0 = all cores), got " + std::to_string(opt.threads));
   NLOSLOC_ENSURE(opt.steps >= 0,

@@ -3,6 +3,7 @@
 /// Summaries of Monte Carlo results beside the paper's numbers, and their plain-text rendering (the tables
 /// nlosloc-bench prints). No formatting library needed: the bench adds JSON and progress on top.
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -42,6 +43,7 @@ struct CaseSummary {
   std::string scenario;
   std::string case_name;
   int runs = 0;
+  std::uint64_t first_run = 0;  ///< the runs are first_run .. first_run + runs - 1
   int steps = 0;
   int discard = 0;
   double wall_seconds = 0.0;
@@ -55,6 +57,7 @@ inline CaseSummary summarize(const Scenario& s, const MonteCarloResult& r,
   c.scenario = r.scenario;
   c.case_name = r.case_name;
   c.runs = r.runs;
+  c.first_run = r.first_run;
   c.steps = r.steps;
   c.discard = r.discard;
   c.wall_seconds = r.wall_seconds;
@@ -91,6 +94,14 @@ inline std::optional<double> report_ratio(double ours, std::optional<double> pap
   if (!paper || !(*paper > 0.0)) return std::nullopt;
   return ours / *paper;
 }
+/// First line of a case table.
+inline std::string case_header(const sim::CaseSummary& c) {
+  char b[512];
+  std::snprintf(b, sizeof b, "%s case %s: %s x %d steps, errors over steps k >= %d, %.2f s\n",
+                c.scenario.c_str(), c.case_name.c_str(), runs_label(c.runs, c.first_run).c_str(), c.steps,
+                c.discard, c.wall_seconds);
+  return b;
+}
 }  // namespace nlosloc::detail
 
 namespace nlosloc::sim {
@@ -108,9 +119,7 @@ inline std::string format_table(const CaseSummary& c) {
   if (!any_paper) return format_percentile_table(c);
   std::string out;
   char b[512];
-  std::snprintf(b, sizeof b, "%s case %s: %d runs x %d steps, errors over steps k >= %d, %.2f s\n",
-                c.scenario.c_str(), c.case_name.c_str(), c.runs, c.steps, c.discard, c.wall_seconds);
-  out += b;
+  out += detail::case_header(c);
   std::snprintf(b, sizeof b, "  %-20s %10s %10s %10s %10s %10s %10s %10s %10s %10s\n", "estimator",
                 "ours 67%", "ours 95%", "paper 67%", "paper 95%", "ratio 67%", "ratio 95%", "us/step",
                 "paper us", "sight acc");
@@ -136,9 +145,7 @@ inline std::string format_table(const CaseSummary& c) {
 inline std::string format_percentile_table(const CaseSummary& c) {
   std::string out;
   char b[512];
-  std::snprintf(b, sizeof b, "%s case %s: %d runs x %d steps, errors over steps k >= %d, %.2f s\n",
-                c.scenario.c_str(), c.case_name.c_str(), c.runs, c.steps, c.discard, c.wall_seconds);
-  out += b;
+  out += detail::case_header(c);
   std::snprintf(b, sizeof b, "  %-20s %10s %10s %10s %10s %10s %10s\n", "estimator", "ours 50%", "ours 67%",
                 "ours 90%", "ours 95%", "us/step", "sight acc");
   out += b;

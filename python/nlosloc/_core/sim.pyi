@@ -905,6 +905,11 @@ class K2Study:
         One K2EstimatorStudy per estimator, in order.
         """
     @property
+    def first_run(self) -> int:
+        """
+        Index of the first run averaged.
+        """
+    @property
     def nlos(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         """
         (T,) 1 where the nodes are NLOS.
@@ -978,6 +983,11 @@ class CaseSummary:
     def estimators(self) -> list[EstimatorSummary]:
         """
         In the result's order.
+        """
+    @property
+    def first_run(self) -> int:
+        """
+        Index of the first run summarised.
         """
     @property
     def runs(self) -> int:
@@ -1162,11 +1172,12 @@ def rmse_over_time(errors: typing.Annotated[numpy.typing.ArrayLike, numpy.float6
         T values ``sqrt(mean over runs of errors**2)``.
     """
 @typing.overload
-def run_k2_study(runs: typing.SupportsInt | typing.SupportsIndex, seed: int, steps: typing.SupportsInt | typing.SupportsIndex | None = None, estimators: collections.abc.Sequence | None = None) -> K2Study:
+def run_k2_study(runs: typing.SupportsInt | typing.SupportsIndex, seed: int, steps: typing.SupportsInt | typing.SupportsIndex | None = None, estimators: collections.abc.Sequence | None = None, *, first_run: int = 0) -> K2Study:
     """
     The K2 study of Ke & Wu Sec. 6.2 (Figs. 3-5): every estimator registered for K2 (or
-    ``estimators``) on ``runs`` draws ``Rng(seed, r)`` of the registered K2, one thread, the same draws
-    as :func:`run_monte_carlo`; position error, ranging error and sight identification averaged over runs.
+    ``estimators``) on the draws ``Rng(seed, r)``, r = ``first_run`` .. ``first_run + runs - 1``, of the
+    registered K2, one thread, the same draws as :func:`run_monte_carlo`; position error, ranging error
+    and sight identification averaged over runs.
     
     Parameters
     ----------
@@ -1179,6 +1190,8 @@ def run_k2_study(runs: typing.SupportsInt | typing.SupportsIndex, seed: int, ste
     estimators : list, optional
         Registered estimator names and ``(name, factory)`` pairs of estimators written in Python, as in
         :func:`run_monte_carlo`; default all registered for K2.
+    first_run : int, default 0
+        Index of the first run (keyword only), as in :func:`run_monte_carlo`.
     
     Returns
     -------
@@ -1187,12 +1200,13 @@ def run_k2_study(runs: typing.SupportsInt | typing.SupportsIndex, seed: int, ste
     Raises
     ------
     ValueError
-        On a bad count, a negative seed, an unknown estimator or a name given twice.
+        On a bad count, a negative seed or first_run, first_run + runs - 1 beyond 2^64 - 1, an unknown
+        estimator or a name given twice.
     TypeError
         On a malformed entry of ``estimators`` (see :func:`run_monte_carlo`).
     """
 @typing.overload
-def run_k2_study(scenario: K2, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, steps: typing.SupportsInt | typing.SupportsIndex | None = None, estimators: collections.abc.Sequence | None = None) -> K2Study:
+def run_k2_study(scenario: K2, runs: typing.SupportsInt | typing.SupportsIndex, seed: int, steps: typing.SupportsInt | typing.SupportsIndex | None = None, estimators: collections.abc.Sequence | None = None, *, first_run: int = 0) -> K2Study:
     """
     The K2 study of a K2 built with custom parameters, e.g. ``K2(p)`` with another period.
     
@@ -1203,7 +1217,7 @@ def run_k2_study(scenario: K2, runs: typing.SupportsInt | typing.SupportsIndex, 
     ----------
     scenario : K2
         The scenario.
-    runs, seed, steps, estimators
+    runs, seed, steps, estimators, first_run
         As in the overload without a scenario.
     
     Returns
