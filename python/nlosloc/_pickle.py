@@ -12,9 +12,15 @@ add_* calls that rebuild its rows; a sight chain, a sight process and a quality 
 them (the noise distributions pickle in the extension module); a Kalman filter (Kf, Ekf, Ukf,
 UkfAugmented) as its models and its belief at its time, which is its whole state: the copy steps
 on exactly as the original; the forward filter of the sight and the IUKF likewise, with the
-forward filter's probabilities, step and evidence. The particle filters and the Ke & Wu trackers do
-not pickle (their state is more than what they expose); give montecarlo.run a factory that builds
-them.
+forward filter's probabilities, step and evidence; a built-in box-QP solver (``make_box_qp``) as
+its kind, size, settings and the active set its next solve starts from (the BoxQp class pickles
+itself); the Ke & Wu trackers as their models, options, belief at their time and a copy of their
+solver (``QpBiasEkf``: your own solver object must pickle too; ``BiasAugmentedEkf``: the whole
+augmented belief, biases included), so the copy steps on exactly as the original; only the last
+update's report (``bias``, ``last_step``, ``nlos_detected``) starts empty, until the next update
+(``copy.deepcopy`` keeps it). The particle filters (``Rbpf``, ``ParticleFilter``) do not pickle
+(their particles, merge state and random generator are more than what they expose); give
+montecarlo.run a factory that builds them.
 """
 
 from __future__ import annotations
@@ -233,3 +239,23 @@ def _reduce_iukf(f: Any) -> tuple[Any, ...]:
 copyreg.pickle(_situation.ForwardFilterSnapshot, _reduce_forward_snapshot)
 copyreg.pickle(_situation.ForwardFilter, _reduce_forward)
 copyreg.pickle(_rbpf.Iukf, _reduce_iukf)
+
+
+def _reduce_qp_bias_ekf(f: Any) -> tuple[Any, ...]:
+    args = (f.motion, f.anchors, f.mean, f.cov, f.options, f.solver, f.time)
+    return type(f), args
+
+
+def _make_bias_augmented(args: tuple[Any, ...], mean: Any, cov: Any, time: float) -> Any:
+    f = _mitigation.BiasAugmentedEkf(*args)
+    f.set_augmented_belief(mean, cov, time)
+    return f
+
+
+def _reduce_bias_augmented(f: Any) -> tuple[Any, ...]:
+    args = (f.motion, f.anchors, f.mean[:4], f.cov[:4, :4], f.options, f.time)
+    return _make_bias_augmented, (args, f.mean, f.cov, f.time)
+
+
+copyreg.pickle(_mitigation.QpBiasEkf, _reduce_qp_bias_ekf)
+copyreg.pickle(_mitigation.BiasAugmentedEkf, _reduce_bias_augmented)

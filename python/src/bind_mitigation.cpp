@@ -68,6 +68,8 @@ class PythonBoxQp final : public BoxQp {
   int size() const override { return n_; }
   std::string name() const override { return name_; }
   const VecX& x() const override { return x_; }
+  /// The Python solver object (with the GIL).
+  const py::object& object() const { return *obj_; }
   std::unique_ptr<BoxQp> clone() const override {
     py::gil_scoped_acquire gil;
     auto c = std::make_unique<PythonBoxQp>(py::module_::import("copy").attr("deepcopy")(*obj_), n_);
@@ -127,7 +129,46 @@ std::unique_ptr<BoxQp> solver_arg(const py::object& solver, int n, const BoxQpSe
     if (name == "default" && default_null) return nullptr;
     return solver_by_name(name, n, s);
   }
+  if (py::isinstance<BoxQp>(solver)) {  // a built-in solver object (make_box_qp): a copy of it, natively
+    const auto& q = solver.cast<const BoxQp&>();
+    if (q.size() != n)
+      throw py::value_error("solver: expected a BoxQp of size " + std::to_string(n) +
+                            " (one variable per anchor), got size " + std::to_string(q.size()));
+    return clone_box_qp(q);
+  }
   return std::make_unique<PythonBoxQp>(solver, n);
+}
+
+/// A copy of a tracker's solver for Python: copy.deepcopy of a Python solver object, else a BoxQp clone.
+py::object solver_copy(const BoxQp& q) {
+  if (const auto* p = dynamic_cast<const PythonBoxQp*>(&q))
+    return py::module_::import("copy").attr("deepcopy")(p->object());
+  return py::cast(clone_box_qp(q));
+}
+
+/// BoxQp pickling: the kind, size and settings, and the enumeration's active set (what its next solve
+/// starts from); x, the last solve's report, is not kept. Solvers of other kinds refuse (TypeError).
+py::tuple box_qp_state(const BoxQp& q) {
+  if (const auto* e = dynamic_cast<const EnumerationBoxQp*>(&q))
+    return py::make_tuple("enumeration", e->size(), e->settings(), e->active_set());
+#ifdef NLOSLOC_HAVE_PROXSUITE
+  if (const auto* p = dynamic_cast<const ProxsuiteBoxQp*>(&q))
+    return py::make_tuple("proxsuite", p->size(), p->settings(), py::none());
+#endif
+  if (dynamic_cast<const FailingBoxQp*>(&q) != nullptr)
+    return py::make_tuple("failing", q.size(), BoxQpSettings(), py::none());
+  throw py::type_error("cannot pickle the BoxQp '" + q.name() + "': only the built-in solvers pickle");
+}
+
+std::unique_ptr<BoxQp> box_qp_from_state(const py::tuple& t) {
+  if (t.size() != 4) throw py::value_error("BoxQp state: expected (kind, n, settings, active_set)");
+  auto q = solver_by_name(t[0].cast<std::string>(), t[1].cast<int>(), t[2].cast<BoxQpSettings>());
+  if (!t[3].is_none()) {
+    auto* e = dynamic_cast<EnumerationBoxQp*>(q.get());
+    if (e == nullptr) throw py::value_error("BoxQp state: an active set is only kept by 'enumeration'");
+    e->set_active_set(t[3].cast<std::vector<int>>());
+  }
+  return q;
 }
 
 Gaussian<4> to_belief4(const VecX& mean, const MatX& cov) {
@@ -185,7 +226,8 @@ void bind_mitigation(pybind11::module_& m) {
            "copy.deepcopy.")
       .def("__copy__", &clone_box_qp)
       .def(
-          "__deepcopy__", [](const BoxQp& q, const py::dict&) { return clone_box_qp(q); }, py::arg("memo"));
+          "__deepcopy__", [](const BoxQp& q, const py::dict&) { return clone_box_qp(q); }, py::arg("memo"))
+      .def(py::pickle(&box_qp_state, &box_qp_from_state));
   m.def(
       "make_box_qp",
       [](int n, const BoxQpSettings& s, const std::string& solver) { return solver_by_name(solver, n, s); },
@@ -259,8 +301,8 @@ void bind_mitigation(pybind11::module_& m) {
                  anchors, solver_arg(solver, static_cast<int>(anchors.rows()), s, false));
            }),
            py::arg("anchors"), py::arg("solver") = "default", py::arg("settings") = BoxQpSettings(),
-           "anchors (M, 2), M >= 3. solver: a name (as make_box_qp) or an object with solve(H, g, lower, "
-           "upper) returning the minimiser (M,) or None (see QpBiasEkf).")
+           "anchors (M, 2), M >= 3. solver: a name (as make_box_qp), a BoxQp of size M (a copy is used) or "
+           "an object with solve(H, g, lower, upper) returning the minimiser (M,) or None (see QpBiasEkf).")
       .def(
           "estimate",
           [](BiasEstimator& e, const VecX& z, const VecX& variances, std::optional<VecX> hint) {
@@ -284,6 +326,9 @@ void bind_mitigation(pybind11::module_& m) {
       .def_property_readonly(
           "solver_name", [](const BiasEstimator& e) { return e.solver().name(); },
           "Name of the eq. (14) solver in use.")
+      .def_property_readonly(
+          "solver", [](const BiasEstimator& e) { return solver_copy(e.solver()); },
+          "A copy of the eq. (14) solver: a BoxQp, or copy.deepcopy of your own solver object.")
       .def_property_readonly("size", &BiasEstimator::size)
       .def_property_readonly("anchors", &BiasEstimator::anchors)
       .def_property_readonly("H0", &BiasEstimator::H0, "Eq. (10), (M, 2).")
@@ -340,7 +385,8 @@ void bind_mitigation(pybind11::module_& m) {
            py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
            py::arg("options") = QpBiasEkfOptions(), py::arg("solver") = "default", py::arg("t0") = 0.0,
            "motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4). "
-           "solver: 'default' (its own choice), 'enumeration', 'proxsuite', 'failing', or your own: an "
+           "solver: 'default' (its own choice), 'enumeration', 'proxsuite', 'failing', a BoxQp of size M "
+           "(make_box_qp; the tracker uses a copy), or your own: an "
            "object with solve(H, g, lower, upper) returning the minimiser (M,) of 1/2 x^T H x + g^T x on "
            "lower <= x <= upper, or None when it finds none (a failure: the tracker's fallback). It is "
            "called with the GIL; a result of the wrong shape or outside the box raises ValueError and "
@@ -349,6 +395,15 @@ void bind_mitigation(pybind11::module_& m) {
       .def_property_readonly(
           "solver_name", [](const QpBiasEkf& f) { return f.bias_estimator().solver().name(); },
           "Name of the eq. (14) solver in use (\"enumeration\", \"proxsuite-dense\", ...).")
+      .def_property_readonly(
+          "solver", [](const QpBiasEkf& f) { return solver_copy(f.bias_estimator().solver()); },
+          "A copy of the eq. (14) solver: a BoxQp, or copy.deepcopy of your own solver object (what "
+          "pickling the tracker stores).")
+      .def("__copy__", [](const QpBiasEkf& f) { return QpBiasEkf(f); })
+      .def(
+          "__deepcopy__", [](const QpBiasEkf& f, const py::dict&) { return QpBiasEkf(f); }, py::arg("memo"),
+          "An independent tracker in the same state, the last step's report included (its solver copied "
+          "as QpBiasEkf.solver).")
       .def("predict", &QpBiasEkf::predict, "Eqs. (20)-(21).")
       .def("update", &QpBiasEkf::update, py::arg("z"), "Update with ranges z (M,), NaN = missing.")
       .def("step", &QpBiasEkf::step, py::arg("z"), "predict() then update(z).")
@@ -445,7 +500,22 @@ void bind_mitigation(pybind11::module_& m) {
             f.set_belief(to_belief4(mean, cov), t.value_or(f.time()));
           },
           py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
-          "Sets the kinematic belief and, when t is given, the time; resets the biases to the prior.");
+          "Sets the kinematic belief and, when t is given, the time; resets the biases to the prior.")
+      .def(
+          "set_augmented_belief",
+          [](BiasAugmentedEkf& f, const VecX& mean, const MatX& cov, std::optional<double> t) {
+            nlosloc::detail::ensure_shape(mean, f.state_dim(), 1, "mean");
+            nlosloc::detail::ensure_shape(cov, f.state_dim(), f.state_dim(), "cov");
+            f.set_augmented_belief(Gaussian<Eigen::Dynamic>(mean, cov), t.value_or(f.time()));
+          },
+          py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
+          "Replaces the whole belief, biases included: mean (4 + M,) [x, y, vx, vy, b_1..b_M] and cov "
+          "(4 + M, 4 + M), symmetric positive definite, and the time when t is given. With mean, cov and "
+          "time, the filter's whole state (what pickling stores).")
+      .def("__copy__", [](const BiasAugmentedEkf& f) { return BiasAugmentedEkf(f); })
+      .def(
+          "__deepcopy__", [](const BiasAugmentedEkf& f, const py::dict&) { return BiasAugmentedEkf(f); },
+          py::arg("memo"), "An independent filter in the same state.");
 }
 
 namespace nlosloc::bind {

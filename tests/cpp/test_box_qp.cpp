@@ -175,6 +175,31 @@ TEST_CASE("enumeration box QP: warm start, defaults and argument checks", "[miti
   CHECK(qp.x() == x);
 }
 
+TEST_CASE("enumeration box QP: the active set kept picks the vertex on a singular H, and restores",
+          "[mitigation][qp]") {
+  const VecX lo = VecX::Zero(3), hi = VecX::Constant(3, 2.0);
+  // The optimal set of this QP is the segment x0 + x1 = 1, x2 = 0: the vertex returned is the first
+  // the search reaches, from the kept active set.
+  const MatX H = (MatX(3, 3) << 1, 1, 0, 1, 1, 0, 0, 0, 2).finished();
+  const VecX g = (VecX(3) << -1, -1, 0.5).finished();
+  EnumerationBoxQp q(3);
+  CHECK(q.active_set() == std::vector<int>{0, 0, 0});
+  REQUIRE(q.solve(MatX::Identity(3, 3), (VecX(3) << -1, 1, 1).finished(), lo, hi).ok());
+  CHECK(q.active_set() == std::vector<int>{0, 1, 1});  // x0 free, x1 and x2 at their lower bounds
+  EnumerationBoxQp r(3);
+  r.set_active_set(q.active_set());
+  REQUIRE(r.solve(H, g, lo, hi).ok());
+  CHECK(r.x() == (VecX(3) << 1, 0, 0).finished());
+  EnumerationBoxQp fresh(3);
+  REQUIRE(fresh.solve(H, g, lo, hi).ok());
+  CHECK(fresh.x() == (VecX(3) << 0, 1, 0).finished());
+  // refused values leave the solver as it was
+  CHECK_THROWS_WITH(r.set_active_set({0, 1}), "active_set: expected 3 entries, got 2");
+  CHECK_THROWS_WITH(r.set_active_set({0, 3, 1}),
+                    "active_set: expected entries 0 (free), 1 (lower) or 2 (upper), got 3 at 1");
+  CHECK(r.active_set() == std::vector<int>{0, 1, 1});
+}
+
 TEST_CASE("box QP clone: an independent solver that solves as the original would", "[mitigation][qp]") {
   std::mt19937_64 rng(11);
   const Problem a = random_problem(rng, 5, 3), b = random_problem(rng, 5, 5);  // singular, definite

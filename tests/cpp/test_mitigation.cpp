@@ -407,6 +407,39 @@ TEST_CASE("bias-augmented EKF: biases estimated, non-negative, state finite", "[
                     Catch::Matchers::Contains("iterations"));
 }
 
+TEST_CASE("bias-augmented EKF: set_augmented_belief restores the whole state, or refuses unchanged",
+          "[mitigation][augmented][input]") {
+  BiasAugmentedEkfOptions o;
+  o.bias_prior_std = 4.0;
+  BiasAugmentedEkf f(motion(), small_anchors(), belief_at(3, 4), o, 2.0);
+  VecX z = exact_ranges();
+  z[1] += 2.5;
+  for (int k = 0; k < 5; ++k) f.step(z);
+  // a second filter set from the first's mean, covariance and time steps on exactly as the first
+  BiasAugmentedEkf g(motion(), small_anchors(), belief_at(0, 0), o);
+  g.set_augmented_belief(Gaussian<Eigen::Dynamic>(f.mean(), f.cov()), f.time());
+  for (int k = 0; k < 5; ++k) {
+    f.step(z);
+    g.step(z);
+  }
+  CHECK(g.mean() == f.mean());
+  CHECK(g.cov() == f.cov());
+  CHECK(g.time() == f.time());
+  const VecX m = f.mean();
+  const MatX P = f.cov();
+  MatX asym = P;
+  asym(0, 5) += 0.5;
+  CHECK_THROWS_WITH(
+      f.set_augmented_belief(Gaussian<Eigen::Dynamic>(VecX::Zero(4), MatX::Identity(4, 4)), 0.0),
+      Catch::Matchers::StartsWith("belief.mean: expected shape (7, 1)"));
+  CHECK_THROWS_WITH(f.set_augmented_belief(Gaussian<Eigen::Dynamic>(m, asym), 0.0),
+                    "belief.cov: expected a symmetric positive definite matrix");
+  CHECK_THROWS_WITH(f.set_augmented_belief(Gaussian<Eigen::Dynamic>(m, P), std::nan("")),
+                    "t: expected a finite time (s)");
+  CHECK(f.mean() == m);
+  CHECK(f.cov() == P);
+}
+
 TEST_CASE("set_belief(b) keeps the time, set_belief(b, t) sets it: bias-augmented EKF and QP-bias EKF",
           "[mitigation][input]") {
   // A belief with every entry set (correlated covariance), applied after three steps (t = 0.3 s from

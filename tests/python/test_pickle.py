@@ -183,3 +183,153 @@ def test_a_snapshot_built_by_hand_is_checked() -> None:
         situation.ForwardFilterSnapshot(g, g, -1, 0.0)
     with pytest.raises(ValueError, match="log_evidence: expected a finite value or -inf"):
         situation.ForwardFilterSnapshot(g, g, 0, np.nan)
+
+
+class EnumerationInPython:
+    """A solver of our own (module level, so it pickles): the enumeration, called from Python."""
+
+    def __init__(self, n: int) -> None:
+        from nlosloc import mitigation
+
+        self.qp = mitigation.make_box_qp(n, solver="enumeration")
+        self.calls = 0
+
+    def solve(self, H, g, lower, upper):
+        self.calls += 1
+        return self.qp.x if self.qp.solve(H, g, lower, upper).ok() else None
+
+
+def ke_wu_trackers(s: sim.Scenario, d: dict) -> list:
+    from nlosloc import mitigation
+
+    m0, p0 = d["initial_mean"], d["initial_cov"]
+    A = s.anchors
+    every_step = mitigation.QpBiasEkfOptions()
+    every_step.always_estimate = True
+    snapshot = mitigation.QpBiasEkfOptions()
+    snapshot.reference = mitigation.BiasReference.Snapshot
+    snapshot.always_estimate = True
+    made = [
+        mitigation.QpBiasEkf(s.motion, A, m0, p0),  # its own choice: the enumeration
+        mitigation.QpBiasEkf(s.motion, A, m0, p0, every_step, EnumerationInPython(len(A))),
+        # Sec. 3's snapshot form: a rank-deficient QP, whose answer depends on the active set kept
+        mitigation.QpBiasEkf(s.motion, A, m0, p0, snapshot, "enumeration"),
+        mitigation.BiasAugmentedEkf(s.motion, A, m0, p0),
+    ]
+    if mitigation.have_proxsuite_box_qp:
+        made.append(mitigation.QpBiasEkf(s.motion, A, m0, p0, snapshot, "proxsuite"))
+    return made
+
+
+@pytest.mark.parametrize("name,case", [("K1", "1LOS/2NLOS"), ("K3", "bad/4NLOS")])
+def test_the_ke_wu_trackers_pickle_and_step_on_as_the_original(name: str, case: str) -> None:
+    from nlosloc import mitigation
+
+    s = {"K1": sim.K1, "K3": sim.K3}[name]()
+    d = s.draw(case, 2, 0, 60)
+    y = d["y"]
+    for f in ke_wu_trackers(s, d):
+        f.update(y[0])
+        for k in range(1, 30):
+            f.step(y[k])
+        g = roundtrip(f)
+        assert (
+            type(g) is type(f) and g.time == f.time and g.options.__class__ is f.options.__class__
+        )
+        np.testing.assert_array_equal(g.mean, f.mean)
+        np.testing.assert_array_equal(g.cov, f.cov)
+        if isinstance(f, mitigation.QpBiasEkf):
+            assert g.solver_name == f.solver_name
+            assert not g.last_step.bias_estimated  # the last update's report is not kept
+        h = __import__("copy").deepcopy(f)  # keeps it
+        np.testing.assert_array_equal(h.bias, f.bias)
+        ran = 0
+        for k in range(30, 60):
+            for t in (f, g, h):
+                t.step(y[k])
+            if isinstance(f, mitigation.QpBiasEkf):
+                ran += f.last_step.bias_estimated
+                assert g.last_step.flags == f.last_step.flags
+        for t in (g, h):
+            np.testing.assert_array_equal(t.mean, f.mean)
+            np.testing.assert_array_equal(t.cov, f.cov)
+            np.testing.assert_array_equal(t.bias, f.bias)
+        if isinstance(f, mitigation.QpBiasEkf):
+            # the QP ran (K3's NLOS rows rarely pass the test of eq. 32 in these steps)
+            assert ran >= 5 or (name == "K3" and not f.options.always_estimate)
+    # the Python solver travelled as a copy of the object, calls included
+    f = ke_wu_trackers(s, d)[1]
+    f.step(y[1])
+    assert f.solver.calls == 1 and roundtrip(f).solver.calls == 1
+
+
+def test_box_qp_solvers_pickle_with_the_active_set_they_start_from() -> None:
+    from nlosloc import mitigation
+
+    settings = mitigation.BoxQpSettings()
+    settings.eps_abs = 1e-7
+    q = mitigation.make_box_qp(3, settings, "enumeration")
+    lo, hi = np.zeros(3), np.full(3, 2.0)
+    # a first solve leaves x0 free and x1, x2 at their lower bounds: the active set kept
+    assert q.solve(np.eye(3), np.array([-1.0, 1.0, 1.0]), lo, hi).ok()
+    np.testing.assert_array_equal(q.x, [1.0, 0.0, 0.0])
+    c = pickle.loads(pickle.dumps(q))
+    assert (c.name, c.size) == ("enumeration", 3)
+    np.testing.assert_array_equal(c.x, np.zeros(3))  # x, the last solve's report, is not kept
+    # singular H: the optimal set is the segment x0 + x1 = 1, x2 = 0; the vertex returned is the one
+    # the search reaches first, from the kept active set ([1, 0, 0]) or from all-free ([0, 1, 0])
+    H = np.array([[1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 0.0, 2.0]])
+    g = np.array([-1.0, -1.0, 0.5])
+    assert c.solve(H, g, lo, hi).ok()
+    np.testing.assert_array_equal(c.x, [1.0, 0.0, 0.0])
+    fresh = mitigation.make_box_qp(3, settings, "enumeration")
+    assert fresh.solve(H, g, lo, hi).ok()
+    np.testing.assert_array_equal(fresh.x, [0.0, 1.0, 0.0])
+    names = ["enumeration", "failing"] + (["proxsuite"] if mitigation.have_proxsuite_box_qp else [])
+    for name in names:
+        r = pickle.loads(pickle.dumps(mitigation.make_box_qp(4, settings, name)))
+        assert r.size == 4 and r.name == mitigation.make_box_qp(4, settings, name).name
+
+
+def test_a_box_qp_object_is_a_solver_argument_and_bad_beliefs_are_refused() -> None:
+    from nlosloc import mitigation
+
+    s = sim.K1()
+    d = s.draw("1LOS/2NLOS", 2, 0, 5)
+    m0, p0 = d["initial_mean"], d["initial_cov"]
+    q = mitigation.make_box_qp(3, solver="enumeration")
+    f = mitigation.QpBiasEkf(s.motion, s.anchors, m0, p0, mitigation.QpBiasEkfOptions(), q)
+    assert f.solver_name == "enumeration" and f.solver is not q
+    assert mitigation.BiasEstimator(s.anchors, q).solver_name == "enumeration"
+    with pytest.raises(
+        ValueError,
+        match=r"solver: expected a BoxQp of size 3 \(one variable per anchor\), got size 4",
+    ):
+        mitigation.QpBiasEkf(
+            s.motion,
+            s.anchors,
+            m0,
+            p0,
+            mitigation.QpBiasEkfOptions(),
+            mitigation.make_box_qp(4, solver="enumeration"),
+        )
+
+    b = mitigation.BiasAugmentedEkf(s.motion, s.anchors, m0, p0)
+    b.step(d["y"][1])
+    mean, cov, t = b.mean, b.cov, b.time
+    with pytest.raises(ValueError, match=r"mean: expected shape \(7, 1\)"):
+        b.set_augmented_belief(np.zeros(4), np.eye(4))
+    bad = cov.copy()
+    bad[0, 1] += 1.0
+    with pytest.raises(
+        ValueError, match="belief.cov: expected a symmetric positive definite matrix"
+    ):
+        b.set_augmented_belief(mean, bad)
+    with pytest.raises(ValueError, match="t: expected a finite time"):
+        b.set_augmented_belief(mean, cov, float("nan"))
+    np.testing.assert_array_equal(b.mean, mean)
+    np.testing.assert_array_equal(b.cov, cov)
+    assert b.time == t
+    b.set_augmented_belief(mean + 1.0, cov * 2.0, 7.5)
+    np.testing.assert_array_equal(b.mean, mean + 1.0)
+    assert b.time == 7.5 and b.bias[0] == mean[4] + 1.0

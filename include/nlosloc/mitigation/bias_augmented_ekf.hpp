@@ -113,6 +113,19 @@ class BiasAugmentedEkf {
   /// set_belief(b, time()): keeps the time, as FilterBase::set_belief(b) does.
   void set_belief(const Gaussian<4>& b) { set_belief(b, t_); }
 
+  /// Replaces the whole belief, biases included: mean [x, y, vx, vy, b_1 .. b_M] and its covariance
+  /// (4 + M; finite mean, symmetric positive definite covariance), and the time; std::invalid_argument
+  /// naming the argument otherwise (the filter is then unchanged). With mean(), cov() and time(), the whole
+  /// state: a filter set from another's steps on exactly as that one (the Python bindings pickle so).
+  void set_augmented_belief(const Gaussian<Eigen::Dynamic>& b, double t) {
+    nlosloc::detail::ensure_shape(b.mean, n_, 1, "belief.mean");
+    b.validate("belief");
+    NLOSLOC_ENSURE(std::isfinite(t), "t: expected a finite time (s)");
+    x_ = b.mean;
+    P_ = b.cov;
+    t_ = t;
+  }
+
   /// Prediction: eq. (16) on the kinematics, random walk on the biases.
   void predict() {
     xpred_.noalias() = Phi_ * x_;

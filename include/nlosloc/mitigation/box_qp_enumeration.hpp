@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "nlosloc/mitigation/box_qp.hpp"
 
@@ -46,6 +47,26 @@ class EnumerationBoxQp final : public BoxQp {
   /// returned can depend on it).
   std::unique_ptr<BoxQp> clone() const override { return std::make_unique<EnumerationBoxQp>(*this); }
   const BoxQpSettings& settings() const { return settings_; }
+
+  /// The active set the next solve tries first (the last successful solve's): per variable 0 = free,
+  /// 1 = at its lower bound, 2 = at its upper bound. With set_active_set, what saving a solver needs (the
+  /// Python bindings pickle it) so that the restored one solves every later problem as this one would.
+  std::vector<int> active_set() const {
+    std::vector<int> a(static_cast<std::size_t>(n_));
+    for (int i = 0; i < n_; ++i) a[static_cast<std::size_t>(i)] = last_[static_cast<std::size_t>(i)];
+    return a;
+  }
+  /// Sets the active set tried first; std::invalid_argument naming `active_set` unless it has size()
+  /// entries in {0, 1, 2} (the solver is then unchanged).
+  void set_active_set(const std::vector<int>& a) {
+    NLOSLOC_ENSURE(a.size() == static_cast<std::size_t>(n_), "active_set: expected " + std::to_string(n_) +
+                                                                 " entries, got " + std::to_string(a.size()));
+    for (std::size_t i = 0; i < a.size(); ++i)
+      NLOSLOC_ENSURE(a[i] >= 0 && a[i] <= 2,
+                     "active_set: expected entries 0 (free), 1 (lower) or 2 (upper), got " +
+                         std::to_string(a[i]) + " at " + std::to_string(i));
+    for (std::size_t i = 0; i < a.size(); ++i) last_[i] = static_cast<std::uint8_t>(a[i]);
+  }
 
   QpResult solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,
                  const Eigen::Ref<const VecX>& lower, const Eigen::Ref<const VecX>& upper) override {

@@ -137,6 +137,10 @@ class BoxQp:
         ...
     def __deepcopy__(self, memo: dict) -> BoxQp:
         ...
+    def __getstate__(self) -> tuple:
+        ...
+    def __setstate__(self, arg0: tuple) -> None:
+        ...
     def clone(self) -> BoxQp:
         """
         An independent solver that solves as this one would (BoxQp::clone); also copy.copy and copy.deepcopy.
@@ -335,7 +339,7 @@ class BiasEstimator:
     """
     def __init__(self, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], solver: typing.Any = 'default', settings: BoxQpSettings = ...) -> None:
         """
-        anchors (M, 2), M >= 3. solver: a name (as make_box_qp) or an object with solve(H, g, lower, upper) returning the minimiser (M,) or None (see QpBiasEkf).
+        anchors (M, 2), M >= 3. solver: a name (as make_box_qp), a BoxQp of size M (a copy is used) or an object with solve(H, g, lower, upper) returning the minimiser (M,) or None (see QpBiasEkf).
         """
     def estimate(self, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], variances: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], hint: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None) -> BiasEstimate:
         """
@@ -395,6 +399,11 @@ class BiasEstimator:
     @soft_threshold.setter
     def soft_threshold(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
+    @property
+    def solver(self) -> typing.Any:
+        """
+        A copy of the eq. (14) solver: a BoxQp, or copy.deepcopy of your own solver object.
+        """
     @property
     def solver_name(self) -> str:
         """
@@ -522,9 +531,15 @@ class QpBiasEkf:
     """
     Ke & Wu 2011 proposed tracker: EKF with QP-estimated NLOS biases (eq. 25) and the innovation test of eqs. (31)-(32). State [x, y, vx, vy].
     """
+    def __copy__(self) -> QpBiasEkf:
+        ...
+    def __deepcopy__(self, memo: dict) -> QpBiasEkf:
+        """
+        An independent tracker in the same state, the last step's report included (its solver copied as QpBiasEkf.solver).
+        """
     def __init__(self, motion: nlosloc._core.models.ConstantVelocity2, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: QpBiasEkfOptions = ..., solver: typing.Any = 'default', t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         """
-        motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4). solver: 'default' (its own choice), 'enumeration', 'proxsuite', 'failing', or your own: an object with solve(H, g, lower, upper) returning the minimiser (M,) of 1/2 x^T H x + g^T x on lower <= x <= upper, or None when it finds none (a failure: the tracker's fallback). It is called with the GIL; a result of the wrong shape or outside the box raises ValueError and leaves the tracker unchanged, as does an exception raised inside it. Copies of the tracker (the Monte Carlo workers') get copy.deepcopy of it.
+        motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4). solver: 'default' (its own choice), 'enumeration', 'proxsuite', 'failing', a BoxQp of size M (make_box_qp; the tracker uses a copy), or your own: an object with solve(H, g, lower, upper) returning the minimiser (M,) of 1/2 x^T H x + g^T x on lower <= x <= upper, or None when it finds none (a failure: the tracker's fallback). It is called with the GIL; a result of the wrong shape or outside the box raises ValueError and leaves the tracker unchanged, as does an exception raised inside it. Copies of the tracker (the Monte Carlo workers') get copy.deepcopy of it.
         """
     def belief(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
         """
@@ -582,6 +597,11 @@ class QpBiasEkf:
     def options(self) -> QpBiasEkfOptions:
         ...
     @property
+    def solver(self) -> typing.Any:
+        """
+        A copy of the eq. (14) solver: a BoxQp, or copy.deepcopy of your own solver object (what pickling the tracker stores).
+        """
+    @property
     def solver_name(self) -> str:
         """
         Name of the eq. (14) solver in use ("enumeration", "proxsuite-dense", ...).
@@ -625,10 +645,20 @@ class BiasAugmentedEkf:
     """
     Iterated NLOS EKF (Najar & Vidal 2003, Ke & Wu Sec. 1): state [x, y, vx, vy, b_1..b_M], iterated EKF update.
     """
+    def __copy__(self) -> BiasAugmentedEkf:
+        ...
+    def __deepcopy__(self, memo: dict) -> BiasAugmentedEkf:
+        """
+        An independent filter in the same state.
+        """
     def __init__(self, motion: nlosloc._core.models.ConstantVelocity2, anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], options: BiasAugmentedEkfOptions = ..., t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         ...
     def predict(self) -> None:
         ...
+    def set_augmented_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex | None = None) -> None:
+        """
+        Replaces the whole belief, biases included: mean (4 + M,) [x, y, vx, vy, b_1..b_M] and cov (4 + M, 4 + M), symmetric positive definite, and the time when t is given. With mean, cov and time, the filter's whole state (what pickling stores).
+        """
     def set_belief(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t: typing.SupportsFloat | typing.SupportsIndex | None = None) -> None:
         """
         Sets the kinematic belief and, when t is given, the time; resets the biases to the prior.
