@@ -360,9 +360,23 @@ def test_an_executor_runs_a_factory_that_holds_options() -> None:
     k1 = sim.K1()
     o = mitigation.QpBiasEkfOptions()
     o.gamma, o.noise.sigma0 = k1.params.gamma, k1.params.sigma_los
-    entries = ["proposed", ("mine", QpFactory(o))]
+    it = mitigation.BiasAugmentedEkfOptions()
+    it.noise.sigma0 = k1.params.sigma_los
+    it.bias_prior_std = k1.params.iterated_bias_prior_std
+    it.bias_walk_std = k1.params.iterated_bias_walk_std
+    it.iterations = k1.params.iterated_iterations
+    m, c = np.zeros(4), np.eye(4)
+    entries = [
+        "proposed",
+        "iterated-NLOS-EKF",
+        ("mine", QpFactory(o)),
+        # the trackers themselves travel too (they pickle), each with a solver of its own kind
+        ("object", mitigation.QpBiasEkf(k1.motion, k1.params.anchors, m, c, o, "enumeration")),
+        ("iterated-object", mitigation.BiasAugmentedEkf(k1.motion, k1.params.anchors, m, c, it)),
+    ]
     local = montecarlo.run(k1, CASE, 4, 3, entries, steps=STEPS, progress=False)
-    np.testing.assert_array_equal(
-        local["estimators"]["mine"]["errors"], local["estimators"]["proposed"]["errors"]
-    )
+    e = {k: v["errors"] for k, v in local["estimators"].items()}
+    np.testing.assert_array_equal(e["mine"], e["proposed"])
+    np.testing.assert_array_equal(e["object"], e["proposed"])
+    np.testing.assert_array_equal(e["iterated-object"], e["iterated-NLOS-EKF"])
     assert_same_runs(on_spawn_pool(k1, entries), local)
