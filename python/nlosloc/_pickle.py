@@ -18,9 +18,10 @@ itself); the Ke & Wu trackers as their models, options, belief at their time and
 solver (``QpBiasEkf``: your own solver object must pickle too; ``BiasAugmentedEkf``: the whole
 augmented belief, biases included), so the copy steps on exactly as the original; only the last
 update's report (``bias``, ``last_step``, ``nlos_detected``) starts empty, until the next update
-(``copy.deepcopy`` keeps it). The particle filters (``Rbpf``, ``ParticleFilter``) do not pickle
-(their particles, merge state and random generator are more than what they expose); give
-montecarlo.run a factory that builds them.
+(``copy.deepcopy`` keeps it). The Rbpf pickles as its models, options and ``save()`` snapshot
+(particles, weights, summaries, time and step: the copy steps on bit for bit as the original); the
+joint ``ParticleFilter`` does not (its per-thread random generators are more than what it exposes):
+give montecarlo.run a factory that builds it.
 """
 
 from __future__ import annotations
@@ -259,3 +260,32 @@ def _reduce_bias_augmented(f: Any) -> tuple[Any, ...]:
 
 copyreg.pickle(_mitigation.QpBiasEkf, _reduce_qp_bias_ekf)
 copyreg.pickle(_mitigation.BiasAugmentedEkf, _reduce_bias_augmented)
+
+
+def _reduce_rbpf_snapshot(s: Any) -> tuple[Any, ...]:
+    fields = (s.situations, s.means, s.covs, s.log_weights, s.situation_probabilities)
+    return type(s), (*fields, s.estimate, s.covariance, s.time, s.step)
+
+
+def _make_rbpf(args: tuple[Any, ...], snapshot: Any) -> Any:
+    f = _rbpf.Rbpf(*args)
+    f.restore(snapshot)
+    return f
+
+
+def _reduce_rbpf(f: Any) -> tuple[Any, ...]:
+    s = f.save()
+    args = (
+        f.motion,
+        f.measurements,
+        f.sight_process,
+        f.quality,
+        s.estimate,
+        s.covariance,
+        f.options,
+    )
+    return _make_rbpf, (args, s)
+
+
+copyreg.pickle(_rbpf.RbpfSnapshot, _reduce_rbpf_snapshot)
+copyreg.pickle(_rbpf.Rbpf, _reduce_rbpf)

@@ -241,6 +241,31 @@ void bind_rbpf(py::module_& m) {
                      "UKF noise: Additive moments (default, one sigma set per parent) or Augmented "
                      "(Table III's noise sigma set, one sigma set per child).");
 
+  py::class_<RbpfSnapshot>(m, "RbpfSnapshot",
+                           "What an Rbpf carries from one step to the next (Rbpf.save / Rbpf.restore): a "
+                           "checkpoint, and what pickling an Rbpf stores. Checked by Rbpf.restore.")
+      .def(py::init([](const Eigen::MatrixXi& situations, const MatX& means, const std::vector<MatX>& covs,
+                       const VecX& log_weights, const MatX& situation_probabilities, const VecX& estimate,
+                       const MatX& covariance, double time, long step) {
+             return RbpfSnapshot{situations, means,      covs, log_weights, situation_probabilities,
+                                 estimate,   covariance, time, step};
+           }),
+           py::arg("situations"), py::arg("means"), py::arg("covs"), py::arg("log_weights"),
+           py::arg("situation_probabilities"), py::arg("estimate"), py::arg("covariance"), py::arg("time"),
+           py::arg("step"),
+           "situations (P, B) condition indices, means (P, n), covs: P arrays (n, n) (or one (P, n, n)), "
+           "log_weights (P,) normalised, situation_probabilities (B, N_z), estimate (n,), covariance (n, n), "
+           "time (s), step (steps since the reset; 0: the next step draws from the initial sight).")
+      .def_readonly("situations", &RbpfSnapshot::situations, "(P, B) condition indices (0 = LOS).")
+      .def_readonly("means", &RbpfSnapshot::means, "(P, n) kinetic means (eq. 26).")
+      .def_readonly("covs", &RbpfSnapshot::covs, "P covariances (n, n) (eq. 26).")
+      .def_readonly("log_weights", &RbpfSnapshot::log_weights, "(P,) normalised log weights.")
+      .def_readonly("situation_probabilities", &RbpfSnapshot::situation_probabilities, "(B, N_z).")
+      .def_readonly("estimate", &RbpfSnapshot::estimate, "Eq. (28).")
+      .def_readonly("covariance", &RbpfSnapshot::covariance, "Eq. (27), moment matched.")
+      .def_readonly("time", &RbpfSnapshot::time)
+      .def_readonly("step", &RbpfSnapshot::step);
+
   py::class_<RbpfStepInfo>(m, "RbpfStepInfo", "What one RBPF step reports.")
       .def_readonly("log_likelihood", &RbpfStepInfo::log_likelihood)
       .def_readonly("offspring", &RbpfStepInfo::offspring)
@@ -333,6 +358,14 @@ void bind_rbpf(py::module_& m) {
             "log_weight",
             [](const A& a, int i) { return a.visit([&](const auto& f) { return f.log_weight(i); }); },
             py::arg("i"), "Normalised log weight of particle i.")
+        .def(
+            "save", [](const A& a) { return a.visit([](const auto& f) { return f.save(); }); },
+            "An RbpfSnapshot of everything the next step depends on: restore() of it into an Rbpf with the "
+            "same models and options makes that one step on exactly as this one.")
+        .def(
+            "restore", [](A& a, const RbpfSnapshot& s) { a.visit([&](auto& f) { f.restore(s); }); },
+            py::arg("snapshot"),
+            "Sets the filter to a snapshot (checked first: ValueError naming the field, nothing changed).")
         .def_property_readonly(
             "step_index", [](const A& a) { return a.visit([](const auto& f) { return f.step_index(); }); },
             "Steps taken since the last reset.")

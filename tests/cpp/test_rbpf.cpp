@@ -944,6 +944,123 @@ TEST_CASE("RBPF: the same result bit for bit on 1, 2 and 3 threads", "[rbpf]") {
   }
 }
 
+namespace {
+/// Everything two filters report, equal bit for bit.
+template <class F>
+bool same_filter(const F& a, const F& b) {
+  bool same = a.estimate() == b.estimate() && a.covariance() == b.covariance() &&
+              a.situation_probabilities() == b.situation_probabilities() &&
+              a.num_particles() == b.num_particles() && a.time() == b.time() &&
+              a.step_index() == b.step_index();
+  for (int i = 0; same && i < a.num_particles(); ++i)
+    same = a.log_weight(i) == b.log_weight(i) && a.particle_mean(i) == b.particle_mean(i) &&
+           a.particle_cov(i) == b.particle_cov(i) && a.particle_situation(i) == b.particle_situation(i);
+  return same;
+}
+}  // namespace
+
+TEST_CASE("RBPF save/restore: a filter set to another's snapshot steps on as that one, bit for bit",
+          "[rbpf]") {
+  const H2Like h;
+  std::vector<VecX> y, o;
+  std::vector<Vec<6>> truth;
+  h.simulate(60, 13, y, o, truth);
+  Gaussian<6> elsewhere = h.g;
+  elsewhere.mean.array() += 3.0;
+  struct Case {
+    RbpfVariant variant;
+    int M, threads_a, threads_b;
+    NoiseForm noise;
+  };
+  for (const Case c : {Case{RbpfVariant::kReordered, 128, 2, 1, NoiseForm::kAdditive},
+                       Case{RbpfVariant::kReordered, 16, 1, 2, NoiseForm::kAugmented},
+                       Case{RbpfVariant::kClassical, 2, 2, 1, NoiseForm::kAdditive}}) {
+    CAPTURE(c.M, static_cast<int>(c.variant));
+    RbpfOptions opt;
+    opt.variant = c.variant;
+    opt.num_particles = c.M;
+    opt.noise_form = c.noise;
+    opt.threads = c.threads_a;
+    Rbpf<ConstantVelocityClock2> a(h.motion, h.st, h.proc, h.q, h.g, opt);
+    opt.threads = c.threads_b;  // the result does not depend on the threads
+    Rbpf<ConstantVelocityClock2> b(h.motion, h.st, h.proc, h.q, elsewhere, opt);
+    // from the start (step 0: the next step draws from the initial sight) and mid-track
+    b.restore(a.save());
+    CHECK(same_filter(a, b));
+    for (std::size_t k = 0; k < 30; ++k) a.step(y[k], o[k]);
+    const RbpfSnapshot s = a.save();
+    CHECK(s.step == 30);
+    CHECK(s.situations.rows() == a.num_particles());
+    b.restore(s);
+    REQUIRE(same_filter(a, b));
+    long differing = 0;
+    for (std::size_t k = 30; k < y.size(); ++k) {
+      a.step(y[k], o[k]);
+      b.step(y[k], o[k]);
+      differing += same_filter(a, b) ? 0 : 1;
+    }
+    CHECK(differing == 0);
+  }
+}
+
+TEST_CASE("RBPF restore: a bad snapshot is refused, naming the field, and changes nothing", "[rbpf]") {
+  const H2Like h;
+  std::vector<VecX> y, o;
+  std::vector<Vec<6>> truth;
+  h.simulate(10, 3, y, o, truth);
+  RbpfOptions opt;
+  opt.num_particles = 8;
+  Rbpf<ConstantVelocityClock2> f(h.motion, h.st, h.proc, h.q, h.g, opt);
+  for (std::size_t k = 0; k < y.size(); ++k) f.step(y[k], o[k]);
+  const RbpfSnapshot good = f.save();
+  REQUIRE(good.situations.rows() == 8);
+  const auto refused = [&](const std::function<void(RbpfSnapshot&)>& edit) {
+    RbpfSnapshot s = good;
+    edit(s);
+    try {
+      f.restore(s);
+    } catch (const std::invalid_argument& e) {
+      CHECK(f.save().means == good.means);  // unchanged
+      CHECK(f.step_index() == good.step);
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  using Catch::Matchers::StartsWith;
+  CHECK(refused([](RbpfSnapshot& s) { s.situations.resize(0, 6); }) ==
+        "snapshot.situations: expected 1 to 8 particles (rows), got 0");
+  CHECK(refused([](RbpfSnapshot& s) { s.situations.conservativeResize(9, Eigen::NoChange); }) ==
+        "snapshot.situations: expected 1 to 8 particles (rows), got 9");
+  CHECK_THAT(refused([](RbpfSnapshot& s) { s.situations.conservativeResize(Eigen::NoChange, 5); }),
+             StartsWith("snapshot.situations: expected shape (8, 6)"));
+  CHECK(refused([](RbpfSnapshot& s) { s.situations(2, 1) = 2; }) ==
+        "snapshot.situations: expected condition indices 0 to 1");
+  CHECK_THAT(refused([](RbpfSnapshot& s) { s.means(0, 0) = std::nan(""); }), StartsWith("snapshot.means"));
+  CHECK(refused([](RbpfSnapshot& s) { s.covs.pop_back(); }) ==
+        "snapshot.covs: expected 8 covariances, got 7");
+  CHECK(refused([](RbpfSnapshot& s) { s.covs[3](0, 1) += 1.0; }) ==
+        "snapshot.covs[3]: expected a symmetric positive definite matrix");
+  Eigen::Index heaviest = 0;
+  good.log_weights.maxCoeff(&heaviest);
+  CHECK_THAT(
+      refused([&](RbpfSnapshot& s) { s.log_weights[heaviest] += 0.5; }),
+      StartsWith("snapshot.log_weights: expected normalised log weights (log-sum-exp 0), got log-sum-exp"));
+  CHECK(refused([](RbpfSnapshot& s) { s.log_weights[0] = std::nan(""); }) ==
+        "snapshot.log_weights: expected finite values or -inf");
+  CHECK(refused([](RbpfSnapshot& s) { s.situation_probabilities(0, 0) += 0.1; }) ==
+        "snapshot.situation_probabilities: expected probabilities in [0, 1] with rows summing to 1");
+  CHECK(refused([](RbpfSnapshot& s) { s.covariance(1, 1) = -1.0; }) ==
+        "snapshot.covariance: expected a symmetric positive definite matrix");
+  CHECK(refused([](RbpfSnapshot& s) { s.time = std::nan(""); }) ==
+        "snapshot.time: expected a finite time (s)");
+  CHECK(refused([](RbpfSnapshot& s) { s.step = -1; }) == "snapshot.step: expected >= 0, got -1");
+  // a particle ruled out (-inf) is a valid weight
+  CHECK(refused([&](RbpfSnapshot& s) {
+          s.log_weights[heaviest == 7 ? 6 : 7] = -std::numeric_limits<double>::infinity();
+          s.log_weights.array() -= log_sum_exp(s.log_weights);
+        }) == "accepted");
+}
+
 TEST_CASE("reordered RBPF: a step that throws leaves the filter as it was", "[rbpf]") {
   // A measurement no UKF update can explain (every likelihood underflows) throws NumericalError after the
   // bank ran. The next steps must equal those of a twin that never saw it: the bank's predicted means of

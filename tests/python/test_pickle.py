@@ -333,3 +333,111 @@ def test_a_box_qp_object_is_a_solver_argument_and_bad_beliefs_are_refused() -> N
     b.set_augmented_belief(mean + 1.0, cov * 2.0, 7.5)
     np.testing.assert_array_equal(b.mean, mean + 1.0)
     assert b.time == 7.5 and b.bias[0] == mean[4] + 1.0
+
+
+def h2_rbpf(variant: str, particles: int, threads: int = 1):
+    from nlosloc import rbpf
+
+    s = sim.H2()
+    o = rbpf.RbpfOptions()
+    o.variant = {"reordered": rbpf.RbpfVariant.Reordered, "classical": rbpf.RbpfVariant.Classical}[
+        variant
+    ]
+    o.num_particles = particles
+    o.threads = threads
+    q = situation.QualityModel(s.quality)
+    d = s.draw("default", 6, 0, 50)
+    f = rbpf.Rbpf(
+        s.motion, s.measurements, s.sight_process, q, d["initial_mean"], d["initial_cov"], o
+    )
+    return f, d
+
+
+def same_rbpf(a, b) -> None:
+    assert (a.num_particles, a.step_index, a.time) == (b.num_particles, b.step_index, b.time)
+    np.testing.assert_array_equal(a.estimate, b.estimate)
+    np.testing.assert_array_equal(a.covariance, b.covariance)
+    np.testing.assert_array_equal(a.situation_probabilities, b.situation_probabilities)
+    for i in range(a.num_particles):
+        assert a.log_weight(i) == b.log_weight(i)
+        np.testing.assert_array_equal(a.particle_mean(i), b.particle_mean(i))
+        np.testing.assert_array_equal(a.particle_cov(i), b.particle_cov(i))
+        np.testing.assert_array_equal(a.particle_situation(i), b.particle_situation(i))
+
+
+@pytest.mark.parametrize("variant,particles", [("reordered", 16), ("classical", 2)])
+def test_the_rbpf_pickles_mid_track_and_steps_on_bit_for_bit(variant: str, particles: int) -> None:
+    f, d = h2_rbpf(variant, particles, threads=2)
+    y, o = d["y"], d["quality"]
+    g0 = roundtrip(f)  # at the start: the next step draws from the initial sight
+    same_rbpf(g0, f)
+    for k in range(25):
+        f.step(y[k], o[k])
+        g0.step(y[k], o[k])
+    same_rbpf(g0, f)
+    g = roundtrip(f)
+    assert g.options.threads == 2 and g.options.num_particles == particles
+    same_rbpf(g, f)
+    s = f.save()
+    assert (
+        s.step == 25
+        and s.situations.shape == (f.num_particles, 6)
+        and len(s.covs) == s.means.shape[0]
+    )
+    for k in range(25, 50):
+        f.step(y[k], o[k])
+        g.step(y[k], o[k])
+    same_rbpf(g, f)
+    # a snapshot pickles too, and puts a filter built elsewhere back at step 25
+    h, _ = h2_rbpf(variant, particles)
+    h.restore(pickle.loads(pickle.dumps(s)))
+    assert h.step_index == 25
+    np.testing.assert_array_equal(h.estimate, s.estimate)
+
+
+def test_an_rbpf_snapshot_is_checked_by_restore() -> None:
+    from nlosloc import rbpf
+
+    f, d = h2_rbpf("reordered", 8)
+    for k in range(10):
+        f.step(d["y"][k], d["quality"][k])
+    s = f.save()
+
+    def edited(**change):
+        fields = dict(
+            situations=s.situations,
+            means=s.means,
+            covs=s.covs,
+            log_weights=s.log_weights,
+            situation_probabilities=s.situation_probabilities,
+            estimate=s.estimate,
+            covariance=s.covariance,
+            time=s.time,
+            step=s.step,
+        )
+        fields.update(change)
+        return rbpf.RbpfSnapshot(**fields)
+
+    bad_sit = s.situations.copy()
+    bad_sit[0, 0] = 2
+    bad_cov = [c.copy() for c in s.covs]
+    bad_cov[1][0, 1] += 1.0
+    cases = [
+        (edited(situations=bad_sit), "snapshot.situations: expected condition indices 0 to 1"),
+        (
+            edited(covs=bad_cov),
+            r"snapshot.covs\[1\]: expected a symmetric positive definite matrix",
+        ),
+        (edited(covs=np.array(s.covs)[:-1]), "snapshot.covs: expected 8 covariances, got 7"),
+        (edited(log_weights=s.log_weights + 1.0), "expected normalised log weights"),
+        (edited(step=-2), "snapshot.step: expected >= 0, got -2"),
+        (edited(means=s.means[:, :4]), r"snapshot.means: expected shape \(8, 6\)"),
+    ]
+    before = f.save()
+    for snap, message in cases:
+        with pytest.raises(ValueError, match=message):
+            f.restore(snap)
+        np.testing.assert_array_equal(f.save().means, before.means)
+        assert f.step_index == 10
+    f.restore(edited(covs=np.array(s.covs)))  # one (P, n, n) array is a list of covariances too
+    np.testing.assert_array_equal(f.save().covs[3], s.covs[3])

@@ -63,6 +63,21 @@ struct RbpfOptions {
   NoiseForm noise_form = NoiseForm::kAdditive;  ///< UKF noise: moments (default) or sigma set (Table III)
 };
 
+/// What an Rbpf carries from one step to the next (Rbpf::save / Rbpf::restore): a checkpoint of a long
+/// track, and what pickling stores from Python. P particles (1 <= P <= M), B anchors, N_z conditions, n
+/// state entries.
+struct RbpfSnapshot {
+  Eigen::MatrixXi situations;    ///< P x B condition indices, 0 .. N_z - 1 (0 = LOS)
+  MatX means;                    ///< P x n kinetic means (eq. 26)
+  std::vector<MatX> covs;        ///< P covariances n x n (eq. 26)
+  VecX log_weights;              ///< P normalised log weights (their log-sum-exp is 0)
+  MatX situation_probabilities;  ///< B x N_z, rows summing to 1
+  VecX estimate;                 ///< eq. (28)
+  MatX covariance;               ///< eq. (27), moment matched
+  double time = 0.0;             ///< (s)
+  long step = 0;                 ///< steps since the reset; 0: the next step draws from the initial sight
+};
+
 /// What one RBPF step reports.
 struct RbpfStepInfo {
   double log_likelihood = 0.0;   ///< log of the weight normaliser: approx. log p(y_t, o_t | y_1:t-1, o_1:t-1)
@@ -235,6 +250,99 @@ class Rbpf {
     for (int b = 0; b < B_; ++b) prob_.row(b) = sight_.model(b).initial().transpose();
     pos_var_ = position_variance(initial.cov);
     xpred_ready_ = false;
+  }
+
+  /// Everything the next step depends on (the particles, their weights, the summaries, time and step
+  /// index): restore() of it into a filter built with the same models and options makes that filter step
+  /// on exactly as this one, bit for bit, on any number of threads.
+  RbpfSnapshot save() const {
+    RbpfSnapshot s;
+    s.situations.resize(count_, B_);
+    s.means.resize(count_, N);
+    s.covs.resize(static_cast<std::size_t>(count_));
+    s.log_weights.resize(count_);
+    VecXi sit(B_);
+    for (int i = 0; i < count_; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      decode_situation(key_[u], nz_, sit);
+      s.situations.row(i) = sit.transpose();
+      s.means.row(i) = mean_[u].transpose();
+      s.covs[u] = cov_[u];
+      s.log_weights[i] = normalised_logw(i);
+    }
+    s.situation_probabilities = prob_;
+    s.estimate = est_;
+    s.covariance = est_cov_;
+    s.time = t_;
+    s.step = k_;
+    return s;
+  }
+
+  /// Sets the filter to a snapshot (save() of a filter with the same models and options, or one built by
+  /// hand). Checked first, std::invalid_argument naming the field (the filter is then unchanged): 1 <= P
+  /// <= options().num_particles particles; situations P x B in 0 .. N_z - 1; finite means; symmetric
+  /// positive definite covariances; log weights finite or -inf, with a log-sum-exp within 1e-9 of 0;
+  /// probabilities B x N_z in [0, 1] with rows summing to 1, both within 1e-9; a finite estimate and a
+  /// positive definite covariance; a finite time; step >= 0.
+  void restore(const RbpfSnapshot& s) {
+    const Eigen::Index P = s.situations.rows();
+    NLOSLOC_ENSURE(P >= 1 && P <= opt_.num_particles, "snapshot.situations: expected 1 to " +
+                                                          std::to_string(opt_.num_particles) +
+                                                          " particles (rows), got " + std::to_string(P));
+    ::nlosloc::detail::ensure_shape(s.situations, P, B_, "snapshot.situations");
+    NLOSLOC_ENSURE(s.situations.minCoeff() >= 0 && s.situations.maxCoeff() < nz_,
+                   "snapshot.situations: expected condition indices 0 to " + std::to_string(nz_ - 1));
+    ::nlosloc::detail::ensure_shape(s.means, P, N, "snapshot.means");
+    ::nlosloc::detail::ensure_finite(s.means, "snapshot.means");
+    NLOSLOC_ENSURE(static_cast<Eigen::Index>(s.covs.size()) == P,
+                   "snapshot.covs: expected " + std::to_string(P) + " covariances, got " +
+                       std::to_string(s.covs.size()));
+    for (std::size_t i = 0; i < s.covs.size(); ++i) {
+      const std::string name = "snapshot.covs[" + std::to_string(i) + "]";
+      ::nlosloc::detail::ensure_shape(s.covs[i], N, N, name.c_str());
+      NLOSLOC_ENSURE(is_spd(s.covs[i]), name + ": expected a symmetric positive definite matrix");
+    }
+    ::nlosloc::detail::ensure_shape(s.log_weights, P, 1, "snapshot.log_weights");
+    NLOSLOC_ENSURE(!s.log_weights.array().isNaN().any() &&
+                       !(s.log_weights.array() == std::numeric_limits<double>::infinity()).any(),
+                   "snapshot.log_weights: expected finite values or -inf");
+    const double total = log_sum_exp(s.log_weights);
+    NLOSLOC_ENSURE(std::abs(total) <= 1e-9,
+                   "snapshot.log_weights: expected normalised log weights (log-sum-exp "
+                   "0), got log-sum-exp " +
+                       std::to_string(total));
+    ::nlosloc::detail::ensure_shape(s.situation_probabilities, B_, nz_, "snapshot.situation_probabilities");
+    const auto& pr = s.situation_probabilities.array();
+    // 1e-9 of slack: the filter's own sums of weights may exceed 1 by rounding (1 + 2e-15 seen on H2)
+    NLOSLOC_ENSURE(
+        pr.allFinite() && (pr >= -1e-9).all() && (pr <= 1.0 + 1e-9).all() &&
+            ((s.situation_probabilities.rowwise().sum().array() - 1.0).abs() <= 1e-9).all(),
+        "snapshot.situation_probabilities: expected probabilities in [0, 1] with rows summing to 1");
+    ::nlosloc::detail::ensure_shape(s.estimate, N, 1, "snapshot.estimate");
+    ::nlosloc::detail::ensure_finite(s.estimate, "snapshot.estimate");
+    ::nlosloc::detail::ensure_shape(s.covariance, N, N, "snapshot.covariance");
+    NLOSLOC_ENSURE(is_spd(s.covariance),
+                   "snapshot.covariance: expected a symmetric positive definite matrix");
+    NLOSLOC_ENSURE(std::isfinite(s.time), "snapshot.time: expected a finite time (s)");
+    NLOSLOC_ENSURE(s.step >= 0, "snapshot.step: expected >= 0, got " + std::to_string(s.step));
+    count_ = static_cast<int>(P);
+    for (int i = 0; i < count_; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      key_[u] = encode_situation(s.situations.row(i), nz_);
+      mean_[u] = s.means.row(i).transpose();
+      cov_[u] = s.covs[u];
+      logw_[u] = s.log_weights[i];
+    }
+    logw_shift_ = 0.0;
+    prob_ = s.situation_probabilities;
+    est_ = s.estimate;
+    est_cov_ = s.covariance;
+    t_ = s.time;
+    k_ = s.step;
+    first_ = s.step == 0;
+    pos_var_ = position_variance(est_cov_);
+    xpred_ready_ = false;
+    parent_split_ = 0;
   }
 
   /// One iteration with measurements y (size rows; NaN = missing) and quality statistics o (size B;

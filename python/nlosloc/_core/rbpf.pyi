@@ -10,7 +10,7 @@ import nlosloc._core.situation
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfStepInfo', 'RbpfVariant', 'decode_situation', 'default_merge_threshold', 'encode_situation', 'enumerate_best', 'enumerate_offspring', 'merge_greedy', 'pf_simd_lanes', 'select_top', 'situation_count', 'systematic_resample']
+__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfSnapshot', 'RbpfStepInfo', 'RbpfVariant', 'decode_situation', 'default_merge_threshold', 'encode_situation', 'enumerate_best', 'enumerate_offspring', 'merge_greedy', 'pf_simd_lanes', 'select_top', 'situation_count', 'systematic_resample']
 class RbpfVariant:
     """
     Order of the RBPF iteration.
@@ -156,6 +156,55 @@ class RbpfOptions:
     @threads.setter
     def threads(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
+class RbpfSnapshot:
+    """
+    What an Rbpf carries from one step to the next (Rbpf.save / Rbpf.restore): a checkpoint, and what pickling an Rbpf stores. Checked by Rbpf.restore.
+    """
+    def __init__(self, situations: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], covs: collections.abc.Sequence[typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]], log_weights: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], situation_probabilities: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], estimate: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], covariance: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], time: typing.SupportsFloat | typing.SupportsIndex, step: typing.SupportsInt | typing.SupportsIndex) -> None:
+        """
+        situations (P, B) condition indices, means (P, n), covs: P arrays (n, n) (or one (P, n, n)), log_weights (P,) normalised, situation_probabilities (B, N_z), estimate (n,), covariance (n, n), time (s), step (steps since the reset; 0: the next step draws from the initial sight).
+        """
+    @property
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Eq. (27), moment matched.
+        """
+    @property
+    def covs(self) -> list[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        P covariances (n, n) (eq. 26).
+        """
+    @property
+    def estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Eq. (28).
+        """
+    @property
+    def log_weights(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (P,) normalised log weights.
+        """
+    @property
+    def means(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (P, n) kinetic means (eq. 26).
+        """
+    @property
+    def situation_probabilities(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (B, N_z).
+        """
+    @property
+    def situations(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
+        """
+        (P, B) condition indices (0 = LOS).
+        """
+    @property
+    def step(self) -> int:
+        ...
+    @property
+    def time(self) -> float:
+        ...
 class RbpfStepInfo:
     """
     What one RBPF step reports.
@@ -261,9 +310,17 @@ class Rbpf:
         """
         Restarts from N(mean, cov) at time t0 (validated; a rejected call changes nothing).
         """
+    def restore(self, snapshot: RbpfSnapshot) -> None:
+        """
+        Sets the filter to a snapshot (checked first: ValueError naming the field, nothing changed).
+        """
     def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], O: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> dict:
         """
         step() over the rows of Y (T, m) and O (T, B), GIL released. Returns a dict of mean (T, n), cov (T, n, n), situation_probabilities (T, B, N_z), log_likelihood (T,).
+        """
+    def save(self) -> RbpfSnapshot:
+        """
+        An RbpfSnapshot of everything the next step depends on: restore() of it into an Rbpf with the same models and options makes that one step on exactly as this one.
         """
     def sight_estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         """
