@@ -61,7 +61,13 @@ void bind_core(py::module_& m) {
             return out;
           },
           py::arg("n"), "Array of `n` standard normal draws, shape (n,).")
-      .def("below", &Rng::below, py::arg("n"), "Uniform integer in [0, n).")
+      .def(
+          "below",
+          [](Rng& r, std::uint64_t n) {
+            NLOSLOC_ENSURE(n >= 1, "n: expected an integer >= 1, got 0");  // [0, 0) is empty
+            return r.below(n);
+          },
+          py::arg("n"), "Uniform integer in [0, n), n >= 1.")
       .def("jump", &Rng::jump,
            "Advances the generator by 2^128 draws (xoshiro256 jump): non-overlapping subsequences.")
       .def("state", &Rng::state, "The four 64-bit words of the xoshiro256 state.")

@@ -277,6 +277,7 @@ void bind_mitigation(pybind11::module_& m) {
         nlosloc::detail::ensure_shape(z, anchors.rows(), 1, "z");
         if (!hint) return reference_point(anchors, z);
         nlosloc::detail::ensure_shape(*hint, 2, 1, "hint");
+        nlosloc::detail::ensure_finite(*hint, "hint");  // a NaN hint was silently ignored
         const Vec<2> h = *hint;
         return reference_point(anchors, z, &h);
       },
@@ -329,6 +330,8 @@ void bind_mitigation(pybind11::module_& m) {
       .def_property_readonly(
           "solver", [](const BiasEstimator& e) { return solver_copy(e.solver()); },
           "A copy of the eq. (14) solver: a BoxQp, or copy.deepcopy of your own solver object.")
+      .def_property_readonly("last", &BiasEstimator::last, py::return_value_policy::copy,
+                             "The last estimate (a BiasEstimate copy).")
       .def_property_readonly("size", &BiasEstimator::size)
       .def_property_readonly("anchors", &BiasEstimator::anchors)
       .def_property_readonly("H0", &BiasEstimator::H0, "Eq. (10), (M, 2).")
@@ -444,6 +447,10 @@ void bind_mitigation(pybind11::module_& m) {
           "The belief as a tuple (mean (4,), cov (4, 4)).")
       .def_property_readonly("nlos_detected", &QpBiasEkf::nlos_detected)
       .def_property_readonly("last_step", &QpBiasEkf::last_step, py::return_value_policy::copy)
+      .def_property_readonly(
+          "bias_estimator", &QpBiasEkf::bias_estimator, py::return_value_policy::copy,
+          "A copy of its Sec. 3 estimator: the last QP's bounds, reference point, status and intermediates "
+          "(BiasEstimator.last, .qp_hessian, ...).")
       .def_property_readonly("num_anchors", &QpBiasEkf::num_anchors)
       .def_property_readonly("anchors", &QpBiasEkf::anchors)
       .def_property_readonly("options", &QpBiasEkf::options, py::return_value_policy::copy)

@@ -503,7 +503,14 @@ tuple of numpy.ndarray
 )doc");
 
   m.def(
-      "rmse_over_time", [](const sim::RowMatX& errors) { return sim::rmse_over_time(errors); },
+      "rmse_over_time",
+      [](const py::array& errors) {
+        // a 1-D array would convert to (n, 1): n runs of one step, not one run of n steps
+        if (errors.ndim() != 2)
+          throw py::value_error("errors: expected a 2-D (runs, T) array, got " +
+                                std::to_string(errors.ndim()) + "-D; one run of T steps is errors[None, :]");
+        return sim::rmse_over_time(errors.cast<sim::RowMatX>());
+      },
       py::arg("errors"),
       R"doc(Root mean square error at each step across runs (Ke & Wu 2011 Sec. 6.1).
 

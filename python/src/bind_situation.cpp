@@ -43,6 +43,9 @@ void bind_situation(py::module_& m) {
       [](const VecX& p, const VecX& v, const VecX& q) {
         NLOSLOC_ENSURE(p.size() == v.size() && p.size() == q.size(),
                        "p, v, q: expected vectors of the same size");
+        nlosloc::detail::ensure_finite(p, "p");
+        nlosloc::detail::ensure_finite(v, "v");
+        nlosloc::detail::ensure_finite(q, "q");
         return transversal_speed(p, v, q);
       },
       py::arg("p"), py::arg("v"), py::arg("q"),
@@ -52,6 +55,9 @@ void bind_situation(py::module_& m) {
       [](const VecX& p, const VecX& v, const MatX& anchors) {
         NLOSLOC_ENSURE(p.size() == v.size(), "p, v: expected vectors of the same size");
         nlosloc::detail::ensure_shape(anchors, -1, p.size(), "anchors");
+        nlosloc::detail::ensure_finite(p, "p");
+        nlosloc::detail::ensure_finite(v, "v");
+        nlosloc::detail::ensure_finite(anchors, "anchors");
         VecX out(anchors.rows());
         transversal_speeds(p, v, anchors, out);
         return out;

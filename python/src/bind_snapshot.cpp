@@ -24,6 +24,7 @@ VecX theta_out(const Theta& t) { return VecX(t); }
 
 Theta theta_in(const VecX& v, int n, const char* name) {
   detail::ensure_shape(v, n, 1, name);
+  detail::ensure_finite(v, name);  // a NaN start gave a "fix" of NaN with cost inf and no error
   return Theta(v);
 }
 

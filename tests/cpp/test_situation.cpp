@@ -1,6 +1,7 @@
 // Sight models (Huerta eqs. 9-18, Grisales eq. 16), quality likelihoods, the forward filter (eqs. 35-38)
 // against a hand calculation, and the IUKF (Table VI) reducing to the UKF when the probabilities are certain.
 #include <catch2/catch.hpp>
+#include <cmath>
 
 #include "nlosloc/filters/iukf.hpp"
 #include "nlosloc/situation/forward.hpp"
@@ -21,6 +22,8 @@ TEST_CASE("transversal speed eq. 10", "[situation]") {
   CHECK_THAT(transversal_speed(p, Eigen::Vector2d(3, 4), q), WithinAbs(4.0, 1e-12));
   CHECK_THAT(transversal_speed(p, Eigen::Vector2d(5, 0), q), WithinAbs(0.0, 1e-12));  // radial: no change
   CHECK_THAT(transversal_speed(q, Eigen::Vector2d(3, 4), q), WithinAbs(5.0, 1e-12));
+  // a position that is not finite is not "on the anchor": NaN, not ||v||
+  CHECK(std::isnan(transversal_speed(Eigen::Vector2d(std::nan(""), 0), Eigen::Vector2d(3, 4), q)));
 }
 
 TEST_CASE("speed-dependent transitions: hand values of eqs. 15, 17, 18", "[situation]") {

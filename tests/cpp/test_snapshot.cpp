@@ -111,6 +111,12 @@ TEST_CASE("LosSolver: argument checks name the argument", "[snapshot]") {
                     Catch::Matchers::Contains("theta0"));
   CHECK_THROWS_WITH(Chen(st, ChenOptions{-1, 1.0}), Catch::Matchers::Contains("reject_fraction"));
   CHECK_THROWS_WITH(subsets_at_least(21, 1), Catch::Matchers::Contains("num_anchors"));
+  // a start that is not finite: refused by every snapshot estimator's reset, naming it
+  const Theta bad = (Theta(3) << 0.0, std::nan(""), 0.0).finished();
+  const std::string msg = "start: expected finite values (no NaN or inf)";
+  CHECK_THROWS_WITH(MleLos(st).reset(bad), msg);
+  CHECK_THROWS_WITH(Chen(st).reset(bad), msg);
+  CHECK_THROWS_WITH(Cong(st).reset(bad), msg);
 }
 
 TEST_CASE("LosSolver and MleLos: short y / use / noise are rejected before any row is read", "[snapshot]") {

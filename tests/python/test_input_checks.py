@@ -255,3 +255,61 @@ def test_unsigned_arguments_name_themselves_when_out_of_range():
     assert rbpf.PfOptions(seed=np.int64(7)).seed == 7
     with pytest.raises(TypeError):
         core.Rng(1.0)
+
+
+def test_non_finite_inputs_that_used_to_pass_silently_are_refused() -> None:
+    """Each of these returned a plausible value before (found by an audit of the bindings)."""
+    from nlosloc import sim
+
+    # a NaN position read as "on the anchor" and gave |v|
+    with pytest.raises(ValueError, match="p: expected finite values"):
+        situation.transversal_speed([np.nan, 0.0], [1.0, 1.0], [0.0, 0.0])
+    with pytest.raises(ValueError, match="anchors: expected finite values"):
+        situation.transversal_speeds([1.0, 0.0], [1.0, 1.0], np.array([[0.0, np.inf]]))
+    assert situation.transversal_speed([0.0, 0.0], [3.0, 4.0], [0.0, 0.0]) == 5.0  # on the anchor
+    assert situation.transversal_speed([2.0, 0.0], [3.0, 4.0], [0.0, 0.0]) == 4.0  # eq. (10)
+    # a 1-D array read as n runs of one step
+    with pytest.raises(ValueError, match=r"errors: expected a 2-D \(runs, T\) array, got 1-D"):
+        sim.rmse_over_time(np.array([1.0, 2.0, 3.0]))
+    np.testing.assert_allclose(
+        sim.rmse_over_time(np.array([[3.0, 0.0], [4.0, 0.0]])), [12.5**0.5, 0]
+    )
+    # a NaN start gave a "fix" of NaN with cost inf, or a valid fix from nowhere
+    h2 = sim.H2()
+    solver = snapshot.LosSolver(h2.measurements)
+    y = np.full(h2.measurements.rows, 10.0)
+    with pytest.raises(ValueError, match="theta0: expected finite values"):
+        solver.solve(y, [np.nan, 0.0, 0.0])
+    mle = snapshot.MleLos(h2.measurements)
+    mle.reset([1.0, 2.0, 0.0])
+    with pytest.raises(ValueError, match="start: expected finite values"):
+        mle.reset([np.nan, 0.0, 0.0])
+    with pytest.raises(ValueError, match="start: expected finite values"):
+        snapshot.Chen(h2.measurements).reset([0.0, np.inf, 0.0])
+    # a NaN hint was ignored (the least-squares fit was used instead)
+    anchors = np.array([[0.0, 0.0], [100.0, 0.0], [0.0, 100.0]])
+    with pytest.raises(ValueError, match="hint: expected finite values"):
+        mitigation.reference_point(anchors, np.array([50.0, 60.0, 70.0]), np.array([np.nan, 1.0]))
+    # [0, 0) has no integer
+    with pytest.raises(ValueError, match="n: expected an integer >= 1, got 0"):
+        core.Rng(1).below(0)
+    assert 0 <= core.Rng(1).below(3) < 3
+
+
+def test_the_qp_bias_ekf_shows_its_bias_estimator() -> None:
+    from nlosloc import sim
+
+    k1 = sim.K1()
+    d = k1.draw("0LOS/3NLOS", 1, 0, 20)
+    o = mitigation.QpBiasEkfOptions()
+    o.always_estimate = True
+    f = mitigation.QpBiasEkf(k1.motion, k1.anchors, d["initial_mean"], d["initial_cov"], o)
+    for k in range(20):
+        f.step(d["y"][k])
+    e = f.bias_estimator
+    assert e.size == 3 and e.solver_name == f.solver_name
+    np.testing.assert_array_equal(e.last.bias, f.bias)  # the bias of the last update
+    assert e.last.qp.ok()
+    assert (e.last.upper >= e.last.lower).all()
+    e.sparsity = 0.5  # a copy: the tracker's own estimator is unchanged
+    assert f.bias_estimator.sparsity == 0.0

@@ -68,6 +68,7 @@ class Chen {
   /// Sets the start of every combination's fix (position, then clock bias) and forgets warm starts.
   void reset(const Theta& start) {
     detail::ensure_shape(start, solver_.unknowns(), 1, "start");
+    detail::ensure_finite(start, "start");
     for (auto& s : start_) s = start;
     res_.theta = start;
     first_ = true;

@@ -35,6 +35,7 @@ class MleLos {
   /// Sets the warm start (position, then clock bias when the stack has RTOA rows).
   void reset(const Theta& start) {
     detail::ensure_shape(start, solver_.unknowns(), 1, "start");
+    detail::ensure_finite(start, "start");
     last_ = start;
   }
 

@@ -104,6 +104,7 @@ class Urruela {
 
   void reset(const Theta& start) {
     detail::ensure_shape(start, solver_.unknowns(), 1, "start");
+    detail::ensure_finite(start, "start");
     for (auto& s : start_) s = start;
     res_.theta = start;
     first_ = true;

@@ -24,7 +24,7 @@ class Rng:
         """
     def below(self, n: typing.SupportsInt | typing.SupportsIndex) -> int:
         """
-        Uniform integer in [0, n).
+        Uniform integer in [0, n), n >= 1.
         """
     def jump(self) -> None:
         """

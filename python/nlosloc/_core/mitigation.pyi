@@ -368,6 +368,11 @@ class BiasEstimator:
     def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
     @property
+    def last(self) -> BiasEstimate:
+        """
+        The last estimate (a BiasEstimate copy).
+        """
+    @property
     def qp_gradient(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
     @property
@@ -572,6 +577,11 @@ class QpBiasEkf:
     def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         b^ of the last update (M,) (a copy).
+        """
+    @property
+    def bias_estimator(self) -> BiasEstimator:
+        """
+        A copy of its Sec. 3 estimator: the last QP's bounds, reference point, status and intermediates (BiasEstimator.last, .qp_hessian, ...).
         """
     @property
     def cov(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:

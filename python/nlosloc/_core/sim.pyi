@@ -1157,7 +1157,7 @@ def probability_within(values: typing.Annotated[numpy.typing.ArrayLike, numpy.fl
     float
         The fraction, NaN for an empty input.
     """
-def rmse_over_time(errors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+def rmse_over_time(errors: numpy.ndarray) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     Root mean square error at each step across runs (Ke & Wu 2011 Sec. 6.1).
     
