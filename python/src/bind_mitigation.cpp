@@ -221,6 +221,32 @@ void bind_mitigation(pybind11::module_& m) {
           "Solves the QP. H (n, n) symmetric PSD, g, lower, upper (n,), lower <= upper; returns QpResult.")
       .def_property_readonly(
           "x", [](const BoxQp& q) { return VecX(q.x()); }, "Minimiser of the last solve (n,).")
+      .def_property_readonly(
+          "settings",
+          [](const BoxQp& q) -> py::object {
+            if (const auto* e = dynamic_cast<const EnumerationBoxQp*>(&q)) return py::cast(e->settings());
+#ifdef NLOSLOC_HAVE_PROXSUITE
+            if (const auto* p = dynamic_cast<const ProxsuiteBoxQp*>(&q)) return py::cast(p->settings());
+#endif
+            return py::none();
+          },
+          "The BoxQpSettings it was made with (a copy); None for 'failing'.")
+      .def_property(
+          "active_set",
+          [](const BoxQp& q) -> py::object {
+            if (const auto* e = dynamic_cast<const EnumerationBoxQp*>(&q)) return py::cast(e->active_set());
+            return py::none();
+          },
+          [](BoxQp& q, const std::vector<int>& a) {
+            auto* e = dynamic_cast<EnumerationBoxQp*>(&q);
+            if (e == nullptr)
+              throw py::value_error("active_set: only the 'enumeration' solver has one, this is '" +
+                                    q.name() + "'");
+            e->set_active_set(a);
+          },
+          "'enumeration' only (None otherwise): the active set its next solve tries first, per variable 0 "
+          "free, 1 at its lower bound, 2 at its upper bound (on a singular H it picks the minimiser "
+          "returned).")
       .def("clone", &clone_box_qp,
            "An independent solver that solves as this one would (BoxQp::clone); also copy.copy and "
            "copy.deepcopy.")

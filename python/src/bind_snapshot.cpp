@@ -109,6 +109,8 @@ void bind_snapshot(py::module_& m) {
           &set_checked<&RowNoise::sigma_right>, "Standard deviation right of the center; finite > 0.")
       .def("valid", &RowNoise::valid, "True when center is finite and both sigmas are finite > 0.")
       .def("log_pdf", &RowNoise::log_pdf, py::arg("r"), "log density of the residual r.")
+      .def("normalized", &RowNoise::normalized, py::arg("r"),
+           "Normalised residual (r - center) / sigma, with sigma_left below the center, sigma_right above.")
       .def("__repr__", [](const RowNoise& r) {
         return "RowNoise(center=" + std::to_string(r.center) +
                ", sigma_left=" + std::to_string(r.sigma_left) +
@@ -144,6 +146,17 @@ void bind_snapshot(py::module_& m) {
           "options", [](const LosSolver& s) { return s.options(); },
           "A copy of the GaussNewtonOptions it was built with.")
       .def_property_readonly("los_noise", &LosSolver::los_noise, "The LOS Gaussian RowNoise of every row.")
+      .def_property_readonly(
+          "measurements", [](const LosSolver& s) { return s.stack(); }, "The measurement stack (a copy).")
+      .def(
+          "to_state",
+          [](const LosSolver& s, const VecX& theta) {
+            VecX x;
+            s.to_state(theta_in(theta, s.unknowns(), "theta"), x);
+            return x;
+          },
+          py::arg("theta"),
+          "The full state vector of the stack's layout (zeros but position and clock bias) of a fix theta.")
       .def(
           "residuals",
           [](const LosSolver& s, const VecX& y, const VecX& theta) {

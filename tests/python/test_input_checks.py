@@ -313,3 +313,42 @@ def test_the_qp_bias_ekf_shows_its_bias_estimator() -> None:
     assert (e.last.upper >= e.last.lower).all()
     e.sparsity = 0.5  # a copy: the tracker's own estimator is unchanged
     assert f.bias_estimator.sparsity == 0.0
+
+
+def test_solver_internals_have_python_twins() -> None:
+    from nlosloc import sim
+
+    # RowNoise.normalized: the side's sigma (Cong & Zhuang's split normal)
+    r = snapshot.RowNoise(1.0, 2.0, 4.0)
+    assert r.normalized(0.0) == -0.5 and r.normalized(5.0) == 1.0
+    # LosSolver: its stack and theta -> state in the stack's layout
+    h2 = sim.H2()
+    solver = snapshot.LosSolver(h2.measurements)
+    assert solver.measurements.rows == h2.measurements.rows
+    L = h2.measurements.layout
+    x = solver.to_state([10.0, 20.0, 3.0])
+    expected = np.zeros(L.dim)
+    expected[L.position : L.position + 2] = [10.0, 20.0]
+    expected[L.clock_bias] = 3.0
+    np.testing.assert_array_equal(x, expected)
+    with pytest.raises(ValueError, match=r"theta: expected shape \(3, 1\)"):
+        solver.to_state([1.0, 2.0])
+    # BoxQp: settings and the enumeration's active set
+    s = mitigation.BoxQpSettings()
+    s.eps_abs = 1e-7
+    q = mitigation.make_box_qp(3, s, "enumeration")
+    assert q.settings.eps_abs == 1e-7
+    assert q.active_set == [0, 0, 0]
+    assert mitigation.make_box_qp(3, s, "failing").settings is None
+    assert mitigation.make_box_qp(3, s, "failing").active_set is None
+    H = np.array([[1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 0.0, 2.0]])
+    g, lo, hi = np.array([-1.0, -1.0, 0.5]), np.zeros(3), np.full(3, 2.0)
+    q.active_set = [0, 1, 1]  # x0 free first: the vertex [1, 0, 0] of the optimal segment
+    assert q.solve(H, g, lo, hi).ok()
+    np.testing.assert_array_equal(q.x, [1.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"active_set: expected entries 0 \(free\), 1 \(lower\)"):
+        q.active_set = [0, 3, 1]
+    with pytest.raises(ValueError, match="active_set: expected 3 entries, got 2"):
+        q.active_set = [0, 1]
+    with pytest.raises(ValueError, match="active_set: only the 'enumeration' solver has one"):
+        mitigation.make_box_qp(3, s, "failing").active_set = [0, 0, 0]

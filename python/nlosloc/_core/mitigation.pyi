@@ -2,6 +2,7 @@
 Ke and Wu QP-bias EKF, bias-augmented EKF, QP adapter.
 """
 from __future__ import annotations
+import collections.abc
 import nlosloc._core.filters
 import nlosloc._core.models
 import numpy
@@ -150,8 +151,21 @@ class BoxQp:
         Solves the QP. H (n, n) symmetric PSD, g, lower, upper (n,), lower <= upper; returns QpResult.
         """
     @property
+    def active_set(self) -> typing.Any:
+        """
+        'enumeration' only (None otherwise): the active set its next solve tries first, per variable 0 free, 1 at its lower bound, 2 at its upper bound (on a singular H it picks the minimiser returned).
+        """
+    @active_set.setter
+    def active_set(self, arg1: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
     def name(self) -> str:
         ...
+    @property
+    def settings(self) -> typing.Any:
+        """
+        The BoxQpSettings it was made with (a copy); None for 'failing'.
+        """
     @property
     def size(self) -> int:
         ...

@@ -33,6 +33,10 @@ class RowNoise:
         """
         log density of the residual r.
         """
+    def normalized(self, r: typing.SupportsFloat | typing.SupportsIndex) -> float:
+        """
+        Normalised residual (r - center) / sigma, with sigma_left below the center, sigma_right above.
+        """
     def valid(self) -> bool:
         """
         True when center is finite and both sigmas are finite > 0.
@@ -140,6 +144,10 @@ class LosSolver:
         """
         Fix from the rows flagged in `use` (default all) with per-row RowNoise `noise` (default LOS).
         """
+    def to_state(self, theta: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        The full state vector of the stack's layout (zeros but position and clock bias) of a fix theta.
+        """
     @property
     def has_clock(self) -> bool:
         """
@@ -149,6 +157,11 @@ class LosSolver:
     def los_noise(self) -> list[RowNoise]:
         """
         The LOS Gaussian RowNoise of every row.
+        """
+    @property
+    def measurements(self) -> nlosloc._core.models.MeasurementStack:
+        """
+        The measurement stack (a copy).
         """
     @property
     def options(self) -> GaussNewtonOptions:
