@@ -308,8 +308,7 @@ class Rbpf {
                    "snapshot.log_weights: expected finite values or -inf");
     const double total = log_sum_exp(s.log_weights);
     NLOSLOC_ENSURE(std::abs(total) <= 1e-9,
-                   "snapshot.log_weights: expected normalised log weights (log-sum-exp "
-                   "0), got log-sum-exp " +
+                   "snapshot.log_weights: expected normalised log weights (log-sum-exp 0), got log-sum-exp " +
                        std::to_string(total));
     ::nlosloc::detail::ensure_shape(s.situation_probabilities, B_, nz_, "snapshot.situation_probabilities");
     const auto& pr = s.situation_probabilities.array();

@@ -68,8 +68,8 @@ inline VecX stationary_distribution(const MatX& T) {
 }  // namespace detail
 
 /// Transversal speed of the mobile w.r.t. an anchor (Huerta eq. 10): the norm of the velocity minus its
-/// projection on p - q. p, v, q have the same size (2-D or 3-D). Returns ||v|| when p == q, NaN when an
-/// input is not finite (a NaN position used to read as "on the anchor" and gave ||v||).
+/// projection on p - q. p, v, q have the same size (2-D or 3-D). Returns ||v|| when p == q, and NaN or inf
+/// when an input is not finite (a NaN position used to read as "on the anchor" and gave ||v||).
 template <class DP, class DV, class DQ>
 double transversal_speed(const Eigen::MatrixBase<DP>& p, const Eigen::MatrixBase<DV>& v,
                          const Eigen::MatrixBase<DQ>& q) {
