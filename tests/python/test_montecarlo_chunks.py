@@ -9,7 +9,7 @@ from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 import numpy as np
 import pytest
 
-from nlosloc import core, mitigation, models, montecarlo, rbpf, sim, snapshot
+from nlosloc import core, mitigation, models, montecarlo, rbpf, sim, situation, snapshot
 
 CASE = "2LOS/1NLOS"
 STEPS = 110  # K1 leaves out its first 100 samples
@@ -380,3 +380,32 @@ def test_an_executor_runs_a_factory_that_holds_options() -> None:
     np.testing.assert_array_equal(e["object"], e["proposed"])
     np.testing.assert_array_equal(e["iterated-object"], e["iterated-NLOS-EKF"])
     assert_same_runs(on_spawn_pool(k1, entries), local)
+
+
+def test_an_rbpf_object_travels_to_spawned_workers() -> None:
+    h1 = sim.H1()
+    o = rbpf.RbpfOptions()
+    o.variant = rbpf.RbpfVariant.Reordered
+    o.num_particles = h1.params.rbpf_particles
+    q = situation.QualityModel(h1.quality)
+    mine = rbpf.Rbpf(h1.motion, h1.measurements, h1.sight_process, q, np.zeros(4), np.eye(4), o)
+    entries = ["rRBPF-8", ("mine", mine)]
+    local = montecarlo.run(h1, "default", 4, 3, entries, steps=120, progress=False)
+    np.testing.assert_array_equal(
+        local["estimators"]["mine"]["errors"], local["estimators"]["rRBPF-8"]["errors"]
+    )
+    ctx = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=2, mp_context=ctx) as ex:
+        remote = montecarlo.run(
+            h1,
+            "default",
+            4,
+            3,
+            entries,
+            threads=1,
+            steps=120,
+            progress=False,
+            executor=ex,
+            chunk_runs=2,
+        )
+    assert_same_runs(remote, local)
