@@ -1,6 +1,7 @@
 // Motion and measurement models: matrices and predictions by hand, Jacobians against finite differences,
 // noise moments against simulation, and argument checks.
 #include <catch2/catch.hpp>
+#include <limits>
 
 #include "nlosloc/core/random.hpp"
 #include "nlosloc/models/measurement.hpp"
@@ -293,6 +294,37 @@ TEST_CASE("measurement stack rejects bad input with named arguments", "[models][
   CHECK_THROWS_WITH(st.is_angle(-1), "i: expected a row index in [0, 1), got -1");
   CHECK_THROWS_WITH(st.noise(0, 2), "condition: expected a sight condition in [0, 2), got 2");
   CHECK(st.noise(0, 1).variance() == 1.0);
+}
+
+TEST_CASE("motion models refuse parameters whose F or Q overflows", "[models][motion][errors]") {
+  CHECK_THROWS_WITH(ConstantVelocity2(10.0, 1e308),
+                    Catch::Matchers::StartsWith("dt, sigma2: the transition F or process noise Q overflows"));
+  CHECK_THROWS_WITH(ConstantVelocity2(1e80, 1.0, VelocityNoise::kWhiteAcceleration),
+                    Catch::Matchers::StartsWith("dt, sigma2: the transition F or process noise Q overflows"));
+  CHECK_THROWS_WITH(ConstantVelocityClock2(1.0, 1.0, std::numeric_limits<double>::infinity()),
+                    Catch::Matchers::StartsWith("sigma_tau2"));  // inf itself: the finite check names it
+  CHECK_THROWS_WITH(
+      ConstantVelocityClock2(10.0, 1e308, 1.0),
+      Catch::Matchers::StartsWith("dt, sigma_v2, sigma_tau2: the transition F or process noise Q"));
+  CHECK_THROWS_WITH(TwoWayClock(1.0, 1e200, 1.0, 1.0),
+                    Catch::Matchers::StartsWith("dt, sigma_omega, sigma_phi, sigma_v: the transition F or"));
+  CHECK(ConstantVelocity2(0.1, 1e10).Q().allFinite());  // large but representable: accepted
+}
+
+TEST_CASE("the additive-noise filters need finite noise moments, the augmented form does not",
+          "[models][measurement][errors]") {
+  MatX a(3, 2);
+  a << 0, 0, 100, 0, 0, 100;
+  MeasurementStack st(ConstantVelocity2::layout(), a, 2);
+  const std::vector<noise::Distribution> heavy = {noise::Normal(0, 1),
+                                                  noise::Gev(0.6, 1, 1)};  // variance inf
+  st.add_toa(0, two(1, 1)).add_toa(1, heavy).add_toa(2, two(1, 1));
+  CHECK_THROWS_WITH(st.check_finite_moments("Ukf"),
+                    Catch::Matchers::StartsWith("measurements: row 1, condition 1: the noise Gev has mean") &&
+                        Catch::Matchers::Contains("; Ukf uses the noise moments, which must be finite"));
+  MeasurementStack ok(ConstantVelocity2::layout(), a, 2);
+  ok.add_toa(0, two(1, 1)).add_toa(1, two(1, 1)).add_toa(2, two(1, 1));
+  CHECK_NOTHROW(ok.check_finite_moments("Ukf"));
 }
 
 TEST_CASE("measurement stack rejects a layout whose indices leave the state",

@@ -526,4 +526,7 @@ TEST_CASE("noise: bad parameters throw std::invalid_argument naming the argument
                     "Rayleigh::quantile: p: expected a probability in (0, 1), got 1");
   CHECK_THROWS_WITH(Distribution(Beta(2.0, 2.0)).quantile(-0.5),
                     "Beta::quantile: p: expected a probability in (0, 1), got -0.5");
+  // finite samples whose spread overflows: refused, not a density with bandwidth inf
+  CHECK_THROWS_WITH(Empirical((VecX(3) << 0.0, 1e200, -1e200).finished()),
+                    "Empirical: samples: spread too large (its variance overflows)");
 }

@@ -127,15 +127,21 @@ TEST_CASE("forward filter against a hand calculation (eqs. 36-38)", "[situation]
   CHECK_THROWS_AS(f.update(VecX::Zero(2)), std::invalid_argument);
 }
 
+namespace {
+/// Two speed-dependent anchors with Beta quality statistics, after one step.
+struct TwoAnchors {
+  SightProcess proc{SightModel::speed_dependent(30, 5, 0.1), 2};
+  ForwardFilter f{proc, QualityModel({nn::Beta(4, 1.5), nn::Beta(1.5, 4)})};
+  VecX o = (VecX(2) << 0.9, 0.2).finished(), w = (VecX(2) << 3.0, 1.0).finished();
+  TwoAnchors() { f.step(o, w); }
+};
+}  // namespace
+
 TEST_CASE("forward filter: a rejected call changes nothing, and set_probabilities is the next prior",
           "[situation]") {
-  const SightProcess proc(SightModel::speed_dependent(30, 5, 0.1), 2);
-  const QualityModel q({nn::Beta(4, 1.5), nn::Beta(1.5, 4)});
-  ForwardFilter f(proc, q);
-  VecX o(2), w(2);
-  o << 0.9, 0.2;
-  w << 3.0, 1.0;
-  f.step(o, w);
+  TwoAnchors t;
+  ForwardFilter& f = t.f;
+  const VecX o = t.o, w = t.w;
   const MatX g0 = f.probabilities(), p0 = f.predicted();
   const long k0 = f.step_index();
   const double e0 = f.last_log_evidence();
@@ -173,6 +179,65 @@ TEST_CASE("forward filter: a rejected call changes nothing, and set_probabilitie
   CHECK(f.probabilities() == certain);
   CHECK_THROWS_WITH(f.set_probabilities(MatX::Constant(2, 2, 0.3)),
                     "gamma: every row must hold probabilities (>= 0) summing to 1; row 0 does not");
+}
+
+TEST_CASE("forward filter restore and the speed chain refuse what they used to store silently",
+          "[situation]") {
+  TwoAnchors t;
+  const SightProcess& proc = t.proc;
+  ForwardFilter& f = t.f;
+  const VecX o = t.o, w = t.w;
+  ForwardFilter::Snapshot good;
+  f.save(good);
+  const auto refused = [&](ForwardFilter::Snapshot s) {
+    try {
+      f.restore(s);
+    } catch (const std::invalid_argument& e) {
+      CHECK(f.probabilities() == good.gamma);  // unchanged
+      CHECK(f.step_index() == good.k);
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  ForwardFilter::Snapshot s = good;
+  s.gamma.setConstant(std::nan(""));
+  CHECK(refused(s) == "snapshot.gamma: expected finite values (no NaN or inf)");
+  s = good;
+  s.pred.setConstant(7.0);
+  CHECK(refused(s) == "snapshot.pred: every row must hold probabilities (>= 0) summing to 1; row 0 does not");
+  s = good;
+  s.k = -5;
+  CHECK(refused(s) == "snapshot.k: expected a step index >= 0, got -5");
+  s = good;
+  s.log_evidence = std::nan("");
+  CHECK(refused(s) == "snapshot.log_evidence: expected a number, got NaN");
+  CHECK(refused(good) == "accepted");
+
+  // Eq. (17) at speeds where 1 - p_LN p_NL rounds to 0: finite rows summing to 1 (inf entries before), and
+  // the forward filter stays a probability
+  const Mat<2, 2> T = speed_transition_multiple(1e17, 1.0, 1.0, 1.0);
+  CHECK(T.allFinite());
+  CHECK_THAT(T.row(0).sum(), WithinAbs(1.0, 1e-15));
+  CHECK_THAT(T(0, 1), WithinRel(0.5, 1e-12));  // a L_N / (a (L_L + L_N) + L_L L_N) -> 1/2
+  const Mat<2, 2> T8 = speed_transition_multiple(1e8, 1.0, 1.0, 1.0);  // rows drifted by 3e-9 here
+  CHECK_THAT(T8.row(1).sum(), WithinAbs(1.0, 1e-15));
+  CHECK_THROWS_WITH(speed_transition_single(1e200, 1e200, 1, 1),
+                    Catch::Matchers::StartsWith("w, dt: the transversal distance w * dt overflows"));
+  VecX fast(2);
+  fast << 1e17, 1.0;
+  f.step(o, fast);
+  CHECK(f.probabilities().allFinite());
+  CHECK_THAT(f.probabilities().row(0).sum(), WithinAbs(1.0, 1e-12));
+  // the process names its own arguments
+  CHECK_THROWS_WITH(proc.model(7), "b: expected an anchor index in [0, 2), got 7");
+  Rng rng(1);
+  VecXi cur = VecXi::Zero(2);
+  VecX bad(2);
+  bad << 1.0, std::nan("");
+  CHECK_THROWS_WITH(proc.sample_next(cur, 1, bad, rng),
+                    "speeds: expected finite transversal speeds >= 0, got nan at anchor 1");
+  CHECK_THROWS_WITH(proc.log_transition(cur, cur, 1, bad),
+                    "speeds: expected finite transversal speeds >= 0, got nan at anchor 1");
 }
 
 TEST_CASE("a reducible chain starts from the uniform prior", "[situation]") {

@@ -352,3 +352,25 @@ def test_solver_internals_have_python_twins() -> None:
         q.active_set = [0, 1]
     with pytest.raises(ValueError, match="active_set: only the 'enumeration' solver has one"):
         mitigation.make_box_qp(3, s, "failing").active_set = [0, 0, 0]
+
+
+def test_heavy_tailed_noise_is_refused_by_the_additive_filters_only() -> None:
+    anchors = np.array([[0.0, 0.0], [100.0, 0.0], [0.0, 100.0]])
+    cv = models.ConstantVelocity2(0.1, 1.0)
+    st = models.MeasurementStack(cv.layout(), anchors, 2)
+    heavy = noise.Gev(0.6, 1.0, 1.0)  # shape >= 0.5: infinite variance
+    for b in range(3):
+        st.add_toa(b, [noise.Normal(0.0, 1.0), heavy if b == 1 else noise.Normal(5.0, 2.0)])
+    x0, p0 = np.array([10.0, 20.0, 1.0, 0.0]), np.eye(4)
+    for cls in (filters.Ekf, filters.Ukf):
+        with pytest.raises(ValueError, match="row 1, condition 1: the noise Gev has mean"):
+            cls(cv, st, x0, p0)
+    f = filters.UkfAugmented(cv, st, x0, p0)  # quantiles, not moments: accepted
+    f.update(np.array([22.4, 91.0, 80.6]), sight=[0, 1, 0])
+    assert np.isfinite(f.mean).all()
+    with pytest.raises(
+        ValueError, match="dt, sigma2: the transition F or process noise Q overflows"
+    ):
+        models.ConstantVelocity2(10.0, 1e308)
+    with pytest.raises(ValueError, match="spread too large"):
+        noise.Empirical(np.array([0.0, 1e200, -1e200]))

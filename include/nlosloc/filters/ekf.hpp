@@ -20,6 +20,7 @@ class Ekf : public FilterBase<Ekf<Motion, Meas>, Motion> {
       : Base(motion, initial, t0), meas_(meas) {
     detail::check_layout<kDim>(meas);
     meas.check_ready();
+    meas.check_finite_moments("Ekf");
     const int m = meas.rows();
     tail_.resize(m);
     H_.setZero(m, kDim);

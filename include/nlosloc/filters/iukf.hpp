@@ -41,6 +41,7 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
         w_(scheme.weights(kDim)) {
     detail::check_layout<kDim>(meas);
     meas.check_ready();
+    meas.check_finite_moments("Iukf");
     NLOSLOC_ENSURE(fwd_.num_anchors() == meas.num_anchors(),
                    "forward: expected " + std::to_string(meas.num_anchors()) + " anchors");
     NLOSLOC_ENSURE(fwd_.num_conditions() == meas.num_conditions(),

@@ -154,6 +154,7 @@ class Ukf : public FilterBase<Ukf<Motion, Meas>, Motion> {
       : Base(motion, initial, t0), meas_(meas), scheme_(scheme), w_(scheme.weights(kDim)) {
     detail::check_layout<kDim>(meas);
     meas.check_ready();
+    meas.check_finite_moments("Ukf");
     const int m = meas.rows();
     tail_.resize(m);
     mom_.resize(m);

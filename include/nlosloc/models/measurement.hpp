@@ -203,9 +203,40 @@ class MeasurementStack {
                      std::string(name) + ": expected conditions in [0, " + std::to_string(num_conditions_) +
                          "), got " + std::to_string(sight[b]) + " at anchor " + std::to_string(b));
   }
-  /// Throws unless every row has a noise distribution with finite variance for every condition
-  /// (needed by the filters' additive-noise form).
+  /// Throws unless the stack has rows.
   void check_ready() const { NLOSLOC_ENSURE(rows() > 0, "measurements: the stack has no rows"); }
+
+  /// Throws std::invalid_argument, naming the row, the condition and the distribution, unless every noise
+  /// distribution (and two-way-ranging NLOS delay) has a finite mean and variance: the additive-noise
+  /// filters (Ekf, Ukf, Iukf, the RBPF's additive bank, the LOS solver) use only these moments, so a Gev with
+  /// shape >= 0.5 (infinite variance) used to fail later as a covariance that is not positive definite, or
+  /// as NaN (0 * inf in the IUKF). `who` names the caller; the augmented forms use quantiles and take them.
+  void check_finite_moments(const char* who) const {
+    const auto check = [&](const Dist& d, int i, int z, const char* which) {
+      if (std::isfinite(d.mean()) && std::isfinite(d.variance())) return;
+      detail::throw_invalid_argument(
+          std::string("measurements: row ") + std::to_string(i) + ", condition " + std::to_string(z) + ": " +
+          which + " " + d.name() + " has mean " + std::to_string(d.mean()) + " and variance " +
+          std::to_string(d.variance()) + "; " + who +
+          " uses the noise moments, which must be finite (an augmented form, UkfAugmented or "
+          "NoiseForm::kAugmented, uses quantiles instead)");
+    };
+    for (int i = 0; i < rows(); ++i) {
+      const auto ui = static_cast<std::size_t>(i);
+      const MeasurementRow& r = rows_[ui];
+      if (r.kind == RowKind::kTwrT) continue;  // its noise is its tau row's
+      for (int z = 0; z < num_conditions_; ++z) {
+        const auto uz = static_cast<std::size_t>(z);
+        if (r.kind == RowKind::kTwrTau) {
+          const auto& g = twr_[static_cast<std::size_t>(r.linear)].gamma[uz];
+          if (g) check(*g, i, z, "the NLOS delay");
+          continue;
+        }
+        if (uz < noise_[ui].size()) check(noise_[ui][uz], i, z, "the noise");
+        if (r.kind == RowKind::kTdoa) check(noise2_[ui][uz], i, z, "the noise of the second anchor");
+      }
+    }
+  }
 
   // ---- evaluation (no allocation) ----------------------------------------------------------------
   /// Noise-free prediction g(x) at time t (t only matters for two-way ranging, eq. 17).

@@ -28,6 +28,16 @@ enum class VelocityNoise {
 
 namespace detail {
 inline void check_dt(double dt) { ensure_positive(dt, "dt"); }
+/// F and Q of a motion model built from finite parameters can still overflow (sigma2 = 1e308, or dt^4
+/// sigma2 in Ke and Wu's white-acceleration Q): refused here, naming the parameters, rather than met as inf
+/// in the first predicted covariance.
+template <class M>
+void check_model_finite(const M& F, const M& Q, const char* params) {
+  NLOSLOC_ENSURE(F.allFinite() && Q.allFinite(),
+                 std::string(params) +
+                     ": the transition F or process noise Q overflows; expected parameters "
+                     "giving finite matrices");
+}
 }  // namespace detail
 
 /// Constant velocity in D = 2 or 3 dimensions, state [p (D), v (D)].
@@ -61,6 +71,7 @@ class ConstantVelocity {
       Q_.template bottomLeftCorner<D, D>() = 0.5 * dt * dt * dt * sigma2 * I;
       Q_.template bottomRightCorner<D, D>() = dt * dt * sigma2 * I;
     }
+    detail::check_model_finite(F_, Q_, "dt, sigma2");
   }
 
   double dt() const { return dt_; }
@@ -99,6 +110,7 @@ class ConstantVelocityClock {
     Q_.setZero();
     for (int i = 0; i < D; ++i) Q_(H + i, H + i) = dt * sigma_v2;  // Huerta eq. (6), unsynchronised MT
     Q_(kDim - 1, kDim - 1) = dt * sigma_tau2;
+    detail::check_model_finite(F_, Q_, "dt, sigma_v2, sigma_tau2");
   }
 
   double dt() const { return dt_; }
@@ -136,6 +148,7 @@ class TwoWayClock {
     Q_(0, 0) = sigma_omega * sigma_omega;
     Q_(1, 1) = sigma_phi * sigma_phi;
     Q_(2, 2) = Q_(3, 3) = sigma_v * sigma_v;
+    detail::check_model_finite(F_, Q_, "dt, sigma_omega, sigma_phi, sigma_v");
   }
 
   double dt() const { return h_; }

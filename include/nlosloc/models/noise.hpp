@@ -807,6 +807,10 @@ class Empirical : public detail::DistributionBase<Empirical> {
           detail::fmt(s_[0]));
     h_ = sd1 * std::pow(dn * 0.75, -0.2);  // scipy silverman_factor, d = 1
     var_ = ss / dn + h_ * h_;
+    // finite samples whose spread overflows (e.g. +-1e200) gave h = inf and a degenerate density
+    if (!std::isfinite(mean_) || !std::isfinite(var_))
+      nlosloc::detail::throw_invalid_argument(std::string(kName) +
+                                              ": samples: spread too large (its variance overflows)");
   }
   /// The samples, sorted ascending.
   const VecX& samples() const { return s_; }

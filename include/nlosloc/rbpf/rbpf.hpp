@@ -113,6 +113,7 @@ class Rbpf {
         shared_cut_(std::make_unique<SharedCut[]>(static_cast<std::size_t>(std::max(options.threads, 1)))) {
     ::nlosloc::detail::check_layout<N>(meas);
     meas.check_ready();
+    if (options.noise_form == NoiseForm::kAdditive) meas.check_finite_moments("Rbpf (additive UKF bank)");
     NLOSLOC_ENSURE(options.num_particles >= 1,
                    "options.num_particles: expected M >= 1, got " + std::to_string(options.num_particles));
     NLOSLOC_ENSURE(options.max_offspring >= 1, "options.max_offspring: expected >= 1");

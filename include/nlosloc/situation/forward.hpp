@@ -132,10 +132,14 @@ class ForwardFilter {
     s.k = k_;
     s.log_evidence = log_evidence_;
   }
-  /// Restores a snapshot saved from this filter (or one of the same size).
+  /// Restores a snapshot saved from this filter (or one of the same size). Checked first (the filter is
+  /// unchanged on refusal, std::invalid_argument naming the field): gamma and pred B x N_z with rows of
+  /// probabilities summing to 1, k >= 0, a log evidence that is not NaN.
   void restore(const Snapshot& s) {
-    nlosloc::detail::ensure_shape(s.gamma, num_anchors(), num_conditions(), "snapshot.gamma");
-    nlosloc::detail::ensure_shape(s.pred, num_anchors(), num_conditions(), "snapshot.pred");
+    check_probabilities(s.gamma, num_anchors(), num_conditions(), "snapshot.gamma");
+    check_probabilities(s.pred, num_anchors(), num_conditions(), "snapshot.pred");
+    NLOSLOC_ENSURE(s.k >= 0, "snapshot.k: expected a step index >= 0, got " + std::to_string(s.k));
+    NLOSLOC_ENSURE(!std::isnan(s.log_evidence), "snapshot.log_evidence: expected a number, got NaN");
     gamma_ = s.gamma;
     pred_ = s.pred;
     k_ = s.k;

@@ -11,6 +11,7 @@
 /// simulation. `SightProcess` holds one `SightModel` per anchor.
 /// Convention everywhere: T(m, j) = P(s_t = j | s_{t-1} = m) (rows sum to one).
 #include <cmath>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -102,6 +103,8 @@ inline Mat<2, 2> speed_transition_single(double w, double dt, double mean_los, d
   nlosloc::detail::ensure_positive(mean_los, "mean_los");
   nlosloc::detail::ensure_positive(mean_nlos, "mean_nlos");
   const double a = w * dt;  // distance travelled transversally in one interval
+  NLOSLOC_ENSURE(std::isfinite(a), "w, dt: the transversal distance w * dt overflows (w = " +
+                                       std::to_string(w) + ", dt = " + std::to_string(dt) + ")");
   Mat<2, 2> T;
   T(0, 0) = mean_los / (a + mean_los);    // p_LL, eq. (15)
   T(0, 1) = a / (a + mean_los);           // p_LN
@@ -111,15 +114,19 @@ inline Mat<2, 2> speed_transition_single(double w, double dt, double mean_los, d
 }
 
 /// Two-state matrix of Huerta eq. (17): a round trip LOS->NLOS->LOS is instantaneous, so every interval
-/// sums the geometric series rho = 1 / (1 - p_LN p_NL) over them. Rows sum to one exactly.
+/// sums the geometric series rho = 1 / (1 - p_LN p_NL) over them. With a = w dt and the eq. (15) entries,
+/// rho = (a + L_L)(a + L_N) / D, D = a (L_L + L_N) + L_L L_N, so p'_LN = p_LN p_NN rho = a L_N / D and
+/// p'_NL = a L_L / D: computed so (the form speed_switch_probability uses), since 1 - p_LN p_NL cancels
+/// to 0 at large a (w = 1e17 m/s gave inf entries, and the row sums drifted by 3e-9 at a / L = 1e8).
 inline Mat<2, 2> speed_transition_multiple(double w, double dt, double mean_los, double mean_nlos) {
-  const Mat<2, 2> p = speed_transition_single(w, dt, mean_los, mean_nlos);
-  const double rho = 1.0 / (1.0 - p(0, 1) * p(1, 0));  // eq. (17); p_LN p_NL < 1 since lengths > 0
+  speed_transition_single(w, dt, mean_los, mean_nlos);  // the same argument checks
+  const double a = w * dt, ll = mean_los, ln = mean_nlos;
+  const double d = a * (ll + ln) + ll * ln;
   Mat<2, 2> T;
-  T(0, 0) = p(0, 0) * rho;            // p'_LL
-  T(0, 1) = p(0, 1) * p(1, 1) * rho;  // p'_LN
-  T(1, 0) = p(1, 0) * p(0, 0) * rho;  // p'_NL
-  T(1, 1) = p(1, 1) * rho;            // p'_NN
+  T(0, 1) = a * ln / d;         // p'_LN, eq. (17)
+  T(0, 0) = ll * (a + ln) / d;  // p'_LL = p_LL rho
+  T(1, 0) = a * ll / d;         // p'_NL
+  T(1, 1) = ln * (a + ll) / d;  // p'_NN = p_NN rho
   return T;
 }
 
@@ -290,7 +297,12 @@ class SightProcess {
 
   int num_anchors() const { return static_cast<int>(models_.size()); }
   int num_conditions() const { return models_.empty() ? 0 : models_.front().num_conditions(); }
-  const SightModel& model(int b) const { return models_.at(static_cast<std::size_t>(b)); }
+  const SightModel& model(int b) const {
+    if (b < 0 || b >= num_anchors())  // std::out_of_range (IndexError in Python), naming the argument
+      throw std::out_of_range("b: expected an anchor index in [0, " + std::to_string(num_anchors()) +
+                              "), got " + std::to_string(b));
+    return models_[static_cast<std::size_t>(b)];
+  }
   /// True when any anchor's matrix depends on the transversal speed (filters then need the state).
   bool speed_dependent() const {
     for (const auto& m : models_)
@@ -309,7 +321,7 @@ class SightProcess {
   VecXi sample_next(const VecXi& current, long k, const VecX& speeds, Rng& rng) const {
     nlosloc::detail::ensure_shape(current, num_anchors(), 1, "current");
     const bool need = speed_dependent();
-    if (need) nlosloc::detail::ensure_shape(speeds, num_anchors(), 1, "speeds");
+    if (need) check_speeds(speeds);
     VecXi s(num_anchors());
     for (int b = 0; b < num_anchors(); ++b)
       s(b) = models_[static_cast<std::size_t>(b)].sample_next(current(b), k, need ? speeds(b) : 0.0, rng);
@@ -321,7 +333,7 @@ class SightProcess {
     nlosloc::detail::ensure_shape(from, num_anchors(), 1, "from");
     nlosloc::detail::ensure_shape(to, num_anchors(), 1, "to");
     const bool need = speed_dependent();
-    if (need) nlosloc::detail::ensure_shape(speeds, num_anchors(), 1, "speeds");
+    if (need) check_speeds(speeds);
     double l = 0.0;
     MatX T;
     for (int b = 0; b < num_anchors(); ++b) {
@@ -334,6 +346,15 @@ class SightProcess {
   }
 
  private:
+  /// speeds: B transversal speeds, finite and >= 0 (named here, not as the chain's internal w).
+  void check_speeds(const VecX& speeds) const {
+    nlosloc::detail::ensure_shape(speeds, num_anchors(), 1, "speeds");
+    for (Eigen::Index b = 0; b < speeds.size(); ++b)
+      NLOSLOC_ENSURE(std::isfinite(speeds[b]) && speeds[b] >= 0.0,
+                     "speeds: expected finite transversal speeds >= 0, got " + std::to_string(speeds[b]) +
+                         " at anchor " + std::to_string(b));
+  }
+
   static std::size_t checked_anchors(int num_anchors) {
     NLOSLOC_ENSURE(num_anchors >= 1,
                    "num_anchors: expected an integer >= 1, got " + std::to_string(num_anchors));
