@@ -238,6 +238,13 @@ TEST_CASE("forward filter restore and the speed chain refuse what they used to s
                     "speeds: expected finite transversal speeds >= 0, got nan at anchor 1");
   CHECK_THROWS_WITH(proc.log_transition(cur, cur, 1, bad),
                     "speeds: expected finite transversal speeds >= 0, got nan at anchor 1");
+  // a statistic where a density is infinite (Beta(0.5, 4) at 0) is named as such, not as "impossible"
+  ForwardFilter g(SightProcess(SightModel::speed_dependent(30, 5, 0.1), 1),
+                  QualityModel({nn::Beta(4, 1.5), nn::Beta(0.5, 4)}));
+  const MatX g0 = g.probabilities();
+  CHECK_THROWS_WITH(g.step(VecX::Zero(1), VecX::Ones(1)),
+                    Catch::Matchers::StartsWith("o: statistic of anchor 0 has an infinite density"));
+  CHECK(g.probabilities() == g0);
 }
 
 TEST_CASE("a reducible chain starts from the uniform prior", "[situation]") {

@@ -90,6 +90,11 @@ class ForwardFilter {
       // log-domain product then normalise, so tiny densities do not underflow (weights in log space);
       // ll_ is overwritten with the unnormalised posterior
       const double m = ll_.row(b).maxCoeff();
+      // An infinite density (Beta(a < 1) at 0) would give NaN weights and read as "impossible"
+      NLOSLOC_ENSURE(m < std::numeric_limits<double>::infinity(),
+                     "o: statistic of anchor " + std::to_string(b) +
+                         " has an infinite density under some condition (the edge of its support, e.g. "
+                         "Beta(a < 1) at 0); expected a statistic where every density is finite");
       double z = 0.0;
       for (int k = 0; k < num_conditions(); ++k) {
         ll_(b, k) = pred_(b, k) * std::exp(ll_(b, k) - m);  // eq. (37)
