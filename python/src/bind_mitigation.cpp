@@ -146,18 +146,30 @@ py::object solver_copy(const BoxQp& q) {
   return py::cast(clone_box_qp(q));
 }
 
-/// BoxQp pickling: the kind, size and settings, and the enumeration's active set (what its next solve
-/// starts from); x, the last solve's report, is not kept. Solvers of other kinds refuse (TypeError).
-py::tuple box_qp_state(const BoxQp& q) {
-  if (const auto* e = dynamic_cast<const EnumerationBoxQp*>(&q))
-    return py::make_tuple("enumeration", e->size(), e->settings(), e->active_set());
+/// The settings a built-in solver was made with (enumeration, proxsuite); none for the others.
+std::optional<BoxQpSettings> settings_of(const BoxQp& q) {
+  if (const auto* e = dynamic_cast<const EnumerationBoxQp*>(&q)) return e->settings();
 #ifdef NLOSLOC_HAVE_PROXSUITE
-  if (const auto* p = dynamic_cast<const ProxsuiteBoxQp*>(&q))
-    return py::make_tuple("proxsuite", p->size(), p->settings(), py::none());
+  if (const auto* p = dynamic_cast<const ProxsuiteBoxQp*>(&q)) return p->settings();
 #endif
-  if (dynamic_cast<const FailingBoxQp*>(&q) != nullptr)
-    return py::make_tuple("failing", q.size(), BoxQpSettings(), py::none());
-  throw py::type_error("cannot pickle the BoxQp '" + q.name() + "': only the built-in solvers pickle");
+  return std::nullopt;
+}
+
+/// BoxQp pickling: the kind (a solver_by_name name), size and settings, and the enumeration's active set
+/// (what its next solve starts from); x, the last solve's report, is not kept. Other solvers refuse.
+py::tuple box_qp_state(const BoxQp& q) {
+  const auto* e = dynamic_cast<const EnumerationBoxQp*>(&q);
+  const char* kind = nullptr;
+  if (e != nullptr)
+    kind = "enumeration";
+  else if (dynamic_cast<const FailingBoxQp*>(&q) != nullptr)
+    kind = "failing";
+  else if (settings_of(q))
+    kind = "proxsuite";  // the other built-in solver with settings
+  if (kind == nullptr)
+    throw py::type_error("cannot pickle the BoxQp '" + q.name() + "': only the built-in solvers pickle");
+  return py::make_tuple(kind, q.size(), settings_of(q).value_or(BoxQpSettings()),
+                        e != nullptr ? py::cast(e->active_set()) : py::none());
 }
 
 std::unique_ptr<BoxQp> box_qp_from_state(const py::tuple& t) {
@@ -222,14 +234,7 @@ void bind_mitigation(pybind11::module_& m) {
       .def_property_readonly(
           "x", [](const BoxQp& q) { return VecX(q.x()); }, "Minimiser of the last solve (n,).")
       .def_property_readonly(
-          "settings",
-          [](const BoxQp& q) -> py::object {
-            if (const auto* e = dynamic_cast<const EnumerationBoxQp*>(&q)) return py::cast(e->settings());
-#ifdef NLOSLOC_HAVE_PROXSUITE
-            if (const auto* p = dynamic_cast<const ProxsuiteBoxQp*>(&q)) return py::cast(p->settings());
-#endif
-            return py::none();
-          },
+          "settings", [](const BoxQp& q) { return settings_of(q); },
           "The BoxQpSettings it was made with (a copy); None for 'failing'.")
       .def_property(
           "active_set",

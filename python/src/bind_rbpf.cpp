@@ -160,9 +160,8 @@ void particle_filter_methods(C& c) {
 
 /// Log weights of the merge and prune helpers: finite or -inf (a particle ruled out), never NaN or +inf.
 void check_log_weights(const VecX& logw) {
-  NLOSLOC_ENSURE(
-      !logw.array().isNaN().any() && !(logw.array() == std::numeric_limits<double>::infinity()).any(),
-      "logw: expected log weights that are finite or -inf (no NaN, no +inf)");
+  NLOSLOC_ENSURE(are_log_weights(logw),
+                 "logw: expected log weights that are finite or -inf (no NaN, no +inf)");
 }
 
 /// Per-anchor log factors A (B, N_z) of the offspring enumerations: B, N_z >= 1, no NaN or +inf (-inf: a

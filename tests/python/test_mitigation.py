@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import scipy.sparse as sp
 
+from box_qp_helpers import osqp_box
 from nlosloc import mitigation, models
 
 ANCHORS = np.array([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]])
@@ -93,7 +93,7 @@ def test_bias_estimation_fallbacks() -> None:
 
 def test_bias_qps_match_osqp() -> None:
     """The QPs of eq. (14) built from random K1-like ranges: proxsuite's objective equals osqp's."""
-    osqp = pytest.importorskip("osqp")
+    pytest.importorskip("osqp")
     rng = np.random.default_rng(4)
     est = mitigation.BiasEstimator(K1_ANCHORS)
     qp = mitigation.make_box_qp(3)
@@ -106,20 +106,7 @@ def test_bias_qps_match_osqp() -> None:
         s = np.sqrt(2500.0)
         lo, up = e.lower / s, e.upper / s
         assert qp.solve(h, g, lo, up).ok()
-        prob = osqp.OSQP()
-        prob.setup(
-            P=sp.csc_matrix(np.triu(h)),
-            q=g,
-            A=sp.identity(3, format="csc"),
-            l=lo,
-            u=up,
-            eps_abs=1e-11,
-            eps_rel=1e-11,
-            max_iter=200000,
-            polishing=True,
-            verbose=False,
-        )
-        xo = np.clip(prob.solve(raise_error=False).x, lo, up)
+        xo = np.clip(osqp_box(h, g, lo, up, 1e-11, 200000).x, lo, up)
         fo = 0.5 * xo @ h @ xo + g @ xo
         f = 0.5 * qp.x @ h @ qp.x + g @ qp.x
         assert abs(f - fo) <= 1e-6 * max(1.0, abs(fo))

@@ -8,6 +8,7 @@ import pickle
 import numpy as np
 import pytest
 
+from box_qp_helpers import Enumeration
 from nlosloc import core, models, noise, sim, situation
 
 
@@ -185,20 +186,6 @@ def test_a_snapshot_built_by_hand_is_checked() -> None:
         situation.ForwardFilterSnapshot(g, g, 0, np.nan)
 
 
-class EnumerationInPython:
-    """A solver of our own (module level, so it pickles): the enumeration, called from Python."""
-
-    def __init__(self, n: int) -> None:
-        from nlosloc import mitigation
-
-        self.qp = mitigation.make_box_qp(n, solver="enumeration")
-        self.calls = 0
-
-    def solve(self, H, g, lower, upper):
-        self.calls += 1
-        return self.qp.x if self.qp.solve(H, g, lower, upper).ok() else None
-
-
 def ke_wu_trackers(s: sim.Scenario, d: dict) -> list:
     from nlosloc import mitigation
 
@@ -211,7 +198,7 @@ def ke_wu_trackers(s: sim.Scenario, d: dict) -> list:
     snapshot.always_estimate = True
     made = [
         mitigation.QpBiasEkf(s.motion, A, m0, p0),  # its own choice: the enumeration
-        mitigation.QpBiasEkf(s.motion, A, m0, p0, every_step, EnumerationInPython(len(A))),
+        mitigation.QpBiasEkf(s.motion, A, m0, p0, every_step, Enumeration(len(A))),
         # Sec. 3's snapshot form: a rank-deficient QP, whose answer depends on the active set kept
         mitigation.QpBiasEkf(s.motion, A, m0, p0, snapshot, "enumeration"),
         mitigation.BiasAugmentedEkf(s.motion, A, m0, p0),

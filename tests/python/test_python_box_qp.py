@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import scipy.sparse as sp
 
+from box_qp_helpers import Enumeration, osqp_box
 from nlosloc import mitigation, models, sim
 
 K1_ANCHORS = np.array([[0.0, 0.0], [8600.0, 0.0], [4300.0, 7500.0]])
@@ -17,41 +17,11 @@ def motion() -> models.ConstantVelocity2:
     return models.ConstantVelocity2(0.1, 1.0, models.VelocityNoise.WhiteAcceleration)
 
 
-class Enumeration:
-    """The built-in enumeration solver, called from Python; counts its calls."""
-
-    name = "py-enumeration"
-
-    def __init__(self, n: int = 3) -> None:
-        self.qp = mitigation.make_box_qp(n, solver="enumeration")
-        self.calls = 0
-
-    def solve(self, H, g, lower, upper):  # noqa: N803 (the QP's names)
-        self.calls += 1
-        return self.qp.x if self.qp.solve(H, g, lower, upper).ok() else None
-
-
 class Osqp:
     """osqp on the same box QP."""
 
     def solve(self, H, g, lower, upper):  # noqa: N803
-        import osqp
-
-        prob = osqp.OSQP()
-        n = len(g)
-        prob.setup(
-            P=sp.csc_matrix(np.triu(H)),
-            q=g,
-            A=sp.identity(n, format="csc"),
-            l=lower,
-            u=upper,
-            eps_abs=1e-10,
-            eps_rel=1e-10,
-            max_iter=100000,
-            polishing=True,
-            verbose=False,
-        )
-        r = prob.solve(raise_error=False)
+        r = osqp_box(H, g, lower, upper, 1e-10, 100000)
         return None if r.x is None or not np.all(np.isfinite(r.x)) else np.clip(r.x, lower, upper)
 
 

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import scipy.sparse as sp
 
 osqp = pytest.importorskip("osqp")
+from box_qp_helpers import osqp_box  # noqa: E402
 from nlosloc import mitigation  # noqa: E402
 
 
@@ -48,21 +48,7 @@ def objective(h: np.ndarray, g: np.ndarray, x: np.ndarray) -> float:
 
 
 def solve_osqp(h, g, lower, upper) -> np.ndarray:
-    n = len(g)
-    prob = osqp.OSQP()
-    prob.setup(
-        P=sp.csc_matrix(np.triu(h)),
-        q=g,
-        A=sp.identity(n, format="csc"),
-        l=lower,
-        u=upper,
-        eps_abs=1e-11,
-        eps_rel=1e-11,
-        max_iter=200000,
-        polishing=True,
-        verbose=False,
-    )
-    res = prob.solve(raise_error=False)
+    res = osqp_box(h, g, lower, upper, 1e-11, 200000)
     assert res.info.status in ("solved", "solved inaccurate"), res.info.status
     return np.clip(np.asarray(res.x), lower, upper)
 

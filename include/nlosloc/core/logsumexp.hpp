@@ -17,6 +17,13 @@ double log_sum_exp(const Eigen::DenseBase<D>& v) {
   return m + std::log((v.derived().array() - m).exp().sum());
 }
 
+/// True when every entry is a valid log weight: finite, or -inf (a particle ruled out); never NaN or +inf.
+template <class D>
+bool are_log_weights(const Eigen::DenseBase<D>& v) {
+  const auto a = v.derived().array();
+  return !a.isNaN().any() && !(a == std::numeric_limits<double>::infinity()).any();
+}
+
 /// Subtracts log_sum_exp(v) from v in place so that sum(exp(v)) = 1; returns the normaliser.
 template <class D>
 double log_normalize(Eigen::DenseBase<D>& v) {

@@ -208,7 +208,7 @@ class MeasurementStack {
 
   /// Throws std::invalid_argument, naming the row, the condition and the distribution, unless every noise
   /// distribution (and two-way-ranging NLOS delay) has a finite mean and variance: the additive-noise
-  /// filters (Ekf, Ukf, Iukf, the RBPF's additive bank, the LOS solver) use only these moments, so a Gev with
+  /// filters (Ekf, Ukf, Iukf, the RBPF's additive bank) use only these moments, so a Gev with
   /// shape >= 0.5 (infinite variance) used to fail later as a covariance that is not positive definite, or
   /// as NaN (0 * inf in the IUKF). `who` names the caller; the augmented forms use quantiles and take them.
   void check_finite_moments(const char* who) const {

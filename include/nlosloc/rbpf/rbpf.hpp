@@ -304,9 +304,7 @@ class Rbpf {
       NLOSLOC_ENSURE(is_spd(s.covs[i]), name + ": expected a symmetric positive definite matrix");
     }
     ::nlosloc::detail::ensure_shape(s.log_weights, P, 1, "snapshot.log_weights");
-    NLOSLOC_ENSURE(!s.log_weights.array().isNaN().any() &&
-                       !(s.log_weights.array() == std::numeric_limits<double>::infinity()).any(),
-                   "snapshot.log_weights: expected finite values or -inf");
+    NLOSLOC_ENSURE(are_log_weights(s.log_weights), "snapshot.log_weights: expected finite values or -inf");
     const double total = log_sum_exp(s.log_weights);
     NLOSLOC_ENSURE(std::abs(total) <= 1e-9,
                    "snapshot.log_weights: expected normalised log weights (log-sum-exp 0), got log-sum-exp " +

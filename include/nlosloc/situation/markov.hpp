@@ -95,16 +95,25 @@ enum class SpeedModel {
   kMemoryless = 2,  ///< Huerta eq. (18): the limit w dt >> E{L}; rows equal (p_L, p_N)
 };
 
-/// Two-state transition matrix of Huerta eq. (15) for transversal speed w (m/s), interval dt (s) and mean
-/// LOS / NLOS lengths (m). Order [LOS, NLOS].
-inline Mat<2, 2> speed_transition_single(double w, double dt, double mean_los, double mean_nlos) {
+namespace detail {
+/// The transversal distance a = w dt of one interval (Huerta eq. 14), the speed chains' arguments checked
+/// (named) once for eqs. (15) and (17).
+inline double transversal_distance(double w, double dt, double mean_los, double mean_nlos) {
   nlosloc::detail::ensure_nonnegative(w, "w");
   nlosloc::detail::ensure_positive(dt, "dt");
   nlosloc::detail::ensure_positive(mean_los, "mean_los");
   nlosloc::detail::ensure_positive(mean_nlos, "mean_nlos");
-  const double a = w * dt;  // distance travelled transversally in one interval
+  const double a = w * dt;
   NLOSLOC_ENSURE(std::isfinite(a), "w, dt: the transversal distance w * dt overflows (w = " +
                                        std::to_string(w) + ", dt = " + std::to_string(dt) + ")");
+  return a;
+}
+}  // namespace detail
+
+/// Two-state transition matrix of Huerta eq. (15) for transversal speed w (m/s), interval dt (s) and mean
+/// LOS / NLOS lengths (m). Order [LOS, NLOS].
+inline Mat<2, 2> speed_transition_single(double w, double dt, double mean_los, double mean_nlos) {
+  const double a = detail::transversal_distance(w, dt, mean_los, mean_nlos);
   Mat<2, 2> T;
   T(0, 0) = mean_los / (a + mean_los);    // p_LL, eq. (15)
   T(0, 1) = a / (a + mean_los);           // p_LN
@@ -119,8 +128,7 @@ inline Mat<2, 2> speed_transition_single(double w, double dt, double mean_los, d
 /// p'_NL = a L_L / D: computed so (the form speed_switch_probability uses), since 1 - p_LN p_NL cancels
 /// to 0 at large a (w = 1e17 m/s gave inf entries, and the row sums drifted by 3e-9 at a / L = 1e8).
 inline Mat<2, 2> speed_transition_multiple(double w, double dt, double mean_los, double mean_nlos) {
-  speed_transition_single(w, dt, mean_los, mean_nlos);  // the same argument checks
-  const double a = w * dt, ll = mean_los, ln = mean_nlos;
+  const double a = detail::transversal_distance(w, dt, mean_los, mean_nlos), ll = mean_los, ln = mean_nlos;
   const double d = a * (ll + ln) + ll * ln;
   Mat<2, 2> T;
   T(0, 1) = a * ln / d;         // p'_LN, eq. (17)

@@ -162,7 +162,7 @@ class BoxQp:
     def name(self) -> str:
         ...
     @property
-    def settings(self) -> typing.Any:
+    def settings(self) -> BoxQpSettings | None:
         """
         The BoxQpSettings it was made with (a copy); None for 'failing'.
         """
