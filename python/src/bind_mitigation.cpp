@@ -158,18 +158,13 @@ std::optional<BoxQpSettings> settings_of(const BoxQp& q) {
 /// BoxQp pickling: the kind (a solver_by_name name), size and settings, and the enumeration's active set
 /// (what its next solve starts from); x, the last solve's report, is not kept. Other solvers refuse.
 py::tuple box_qp_state(const BoxQp& q) {
-  const auto* e = dynamic_cast<const EnumerationBoxQp*>(&q);
-  const char* kind = nullptr;
-  if (e != nullptr)
-    kind = "enumeration";
-  else if (dynamic_cast<const FailingBoxQp*>(&q) != nullptr)
-    kind = "failing";
-  else if (settings_of(q))
-    kind = "proxsuite";  // the other built-in solver with settings
-  if (kind == nullptr)
-    throw py::type_error("cannot pickle the BoxQp '" + q.name() + "': only the built-in solvers pickle");
-  return py::make_tuple(kind, q.size(), settings_of(q).value_or(BoxQpSettings()),
-                        e != nullptr ? py::cast(e->active_set()) : py::none());
+  if (const auto* e = dynamic_cast<const EnumerationBoxQp*>(&q))
+    return py::make_tuple("enumeration", q.size(), e->settings(), e->active_set());
+  if (dynamic_cast<const FailingBoxQp*>(&q) != nullptr)
+    return py::make_tuple("failing", q.size(), BoxQpSettings(), py::none());
+  if (const auto s = settings_of(q))  // the other built-in solver with settings
+    return py::make_tuple("proxsuite", q.size(), *s, py::none());
+  throw py::type_error("cannot pickle the BoxQp '" + q.name() + "': only the built-in solvers pickle");
 }
 
 std::unique_ptr<BoxQp> box_qp_from_state(const py::tuple& t) {
