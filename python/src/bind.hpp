@@ -1,7 +1,9 @@
 #pragma once
 /// \file bind.hpp
 /// The binding functions of nlosloc._core, one per submodule, each defined (at global scope) in
-/// python/src/bind_<name>.cpp and called by module.cpp with the submodule it fills.
+/// python/src/bind_<name>.cpp and called by module.cpp with the submodule it fills. A binding file keeps
+/// its helpers and using-directives in a namespace of its own (nlosloc::bind_<name>_cpp): the module
+/// compiles in unity batches (NLOSLOC_UNITY_PYTHON), where file-scope names would meet the next file's.
 #include <pybind11/pybind11.h>
 
 namespace nlosloc::sim {

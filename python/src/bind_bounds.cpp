@@ -7,9 +7,11 @@
 #include "nlosloc/bounds/gcrb.hpp"
 
 namespace py = pybind11;
-using namespace nlosloc;
 
-void bind_bounds(py::module_& m) {
+// Helpers and using-directives stay in this file's namespace: the extension builds in unity batches.
+namespace nlosloc::bind_bounds_cpp {
+
+void define_module(py::module_& m) {
   py::class_<bounds::GcrbResult>(m, "GcrbResult", "Information matrices and position bounds of gcrb_rtoa.")
       .def_readonly("J", &bounds::GcrbResult::J, "(D+1, D+1) J = J_D + J_P, eq. (46).")
       .def_readonly("J_data", &bounds::GcrbResult::J_data, "J_D = H Q^-1 H^T, eq. (43).")
@@ -21,3 +23,6 @@ void bind_bounds(py::module_& m) {
         "(B, D), position (D,), Q (B, B) measurement covariance: positive definite and symmetric "
         "(max |Q - Q^T| <= 1e-10 ||Q||_F; ValueError naming Q otherwise).");
 }
+}  // namespace nlosloc::bind_bounds_cpp
+
+void bind_bounds(py::module_& m) { nlosloc::bind_bounds_cpp::define_module(m); }

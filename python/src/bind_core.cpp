@@ -15,9 +15,11 @@
 #include "nlosloc/core/sigma_points.hpp"
 
 namespace py = pybind11;
-using namespace nlosloc;
 
-void bind_core(py::module_& m) {
+// Helpers and using-directives stay in this file's namespace: the extension builds in unity batches.
+namespace nlosloc::bind_core_cpp {
+
+void define_module(py::module_& m) {
   // register_exception also installs the translator: a bare py::exception<> only creates the type, and
   // the C++ NumericalError then reached Python as a plain RuntimeError.
   auto& numerical_error = py::register_exception<NumericalError>(m, "NumericalError", PyExc_RuntimeError);
@@ -214,3 +216,6 @@ void bind_core(py::module_& m) {
       "definite: the check set_belief applies to a covariance.");
   m.attr("SPEED_OF_LIGHT") = kSpeedOfLight;
 }
+}  // namespace nlosloc::bind_core_cpp
+
+void bind_core(py::module_& m) { nlosloc::bind_core_cpp::define_module(m); }

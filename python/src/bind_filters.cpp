@@ -18,7 +18,9 @@
 #include "nlosloc/filters/ukf.hpp"
 
 namespace py = pybind11;
-using namespace nlosloc;
+
+// Helpers and using-directives stay in this file's namespace: the extension builds in unity batches.
+namespace nlosloc::bind_filters_cpp {
 
 namespace {
 using bind::AnyFilter;
@@ -171,7 +173,7 @@ void sigma_methods(Cls& c) {
 }
 }  // namespace
 
-void bind_filters(py::module_& m) {
+void define_module(py::module_& m) {
   py::enum_<NoiseForm>(m, "NoiseForm", "How a sigma-point filter treats the measurement noise.")
       .value("Additive", NoiseForm::kAdditive, "y = g(x) + n with n's exact mean and covariance (Ukf).")
       .value("Augmented", NoiseForm::kAugmented,
@@ -263,3 +265,6 @@ void bind_filters(py::module_& m) {
         "n + q: the state plus the measurement noise inputs in the sigma points (Huerta eq. 49).");
   }
 }
+}  // namespace nlosloc::bind_filters_cpp
+
+void bind_filters(py::module_& m) { nlosloc::bind_filters_cpp::define_module(m); }

@@ -22,7 +22,9 @@
 #include "py_object.hpp"
 
 namespace py = pybind11;
-using namespace nlosloc;
+
+// Helpers and using-directives stay in this file's namespace: the extension builds in unity batches.
+namespace nlosloc::bind_mitigation_cpp {
 using namespace nlosloc::mitigation;
 
 namespace {
@@ -189,7 +191,7 @@ using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowM
 
 }  // namespace
 
-void bind_mitigation(pybind11::module_& m) {
+void define_module(pybind11::module_& m) {
   // ---- QP adapter ---------------------------------------------------------------------------------
   py::enum_<QpStatus>(m, "QpStatus", "Outcome of BoxQp.solve.")
       .value("Solved", QpStatus::kSolved)
@@ -550,6 +552,9 @@ void bind_mitigation(pybind11::module_& m) {
           "__deepcopy__", [](const BiasAugmentedEkf& f, const py::dict&) { return BiasAugmentedEkf(f); },
           py::arg("memo"), "An independent filter in the same state.");
 }
+}  // namespace nlosloc::bind_mitigation_cpp
+
+void bind_mitigation(py::module_& m) { nlosloc::bind_mitigation_cpp::define_module(m); }
 
 namespace nlosloc::bind {
 

@@ -11,7 +11,9 @@
 #include "nlosloc/models/motion.hpp"
 
 namespace py = pybind11;
-using namespace nlosloc;
+
+// Helpers and using-directives stay in this file's namespace: the extension builds in unity batches.
+namespace nlosloc::bind_models_cpp {
 
 namespace {
 template <class M, class Cls>
@@ -52,7 +54,7 @@ void bind_cvc(py::module_& m, const char* name) {
 }
 }  // namespace
 
-void bind_models(py::module_& m) {
+void define_module(py::module_& m) {
   py::class_<StateLayout>(m, "StateLayout", "Indices of the state pieces (-1 = absent).")
       .def(py::init<>())
       .def_readwrite("dim", &StateLayout::dim)
@@ -229,3 +231,6 @@ void bind_models(py::module_& m) {
           "Raises ValueError unless sight is (B,) integers in [0, num_conditions): the check every filter "
           "applies to a sight vector.");
 }
+}  // namespace nlosloc::bind_models_cpp
+
+void bind_models(py::module_& m) { nlosloc::bind_models_cpp::define_module(m); }

@@ -15,9 +15,10 @@
 #include "nlosloc/models/noise.hpp"
 
 namespace py = pybind11;
+
+// Helpers and using-directives stay in this file's namespace: the extension builds in unity batches.
+namespace nlosloc::bind_noise_cpp {
 using namespace nlosloc::noise;
-using nlosloc::Rng;
-using nlosloc::VecX;
 
 namespace {
 
@@ -164,7 +165,7 @@ float or numpy.ndarray
 
 }  // namespace
 
-void bind_noise(py::module_& m) {
+void define_module(py::module_& m) {
   // ---- Normal
   py::class_<Normal> normal(m, "Normal", R"doc(Normal distribution N(mean, std^2).
 
@@ -439,3 +440,6 @@ dist : Normal | Rayleigh | Exponential | Gev | TruncatedNormal | ShiftedNormal |
   py::implicitly_convertible<Beta, Distribution>();
   py::implicitly_convertible<Empirical, Distribution>();
 }
+}  // namespace nlosloc::bind_noise_cpp
+
+void bind_noise(py::module_& m) { nlosloc::bind_noise_cpp::define_module(m); }

@@ -30,7 +30,9 @@
 #include "nlosloc/sim/h1.hpp"
 
 namespace py = pybind11;
-using namespace nlosloc;
+
+// Helpers and using-directives stay in this file's namespace: the extension builds in unity batches.
+namespace nlosloc::bind_rbpf_cpp {
 using namespace nlosloc::rbpf;
 using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -204,7 +206,7 @@ py::tuple enumerated(const MatX& A, std::uint64_t limit, Run&& run) {
 }
 }  // namespace
 
-void bind_rbpf(py::module_& m) {
+void define_module(py::module_& m) {
   py::enum_<RbpfVariant>(m, "RbpfVariant", "Order of the RBPF iteration.")
       .value("Classical", RbpfVariant::kClassical, "Table IV: a UKF for every child")
       .value("Reordered", RbpfVariant::kReordered, "Table V: merge/select first, M UKFs");
@@ -632,6 +634,9 @@ void bind_rbpf(py::module_& m) {
         "by default, 4 (AVX, AVX2) or 8 (AVX-512) when built with -Ccmake.define.NLOSLOC_NATIVE=ON on such a "
         "CPU.");
 }
+}  // namespace nlosloc::bind_rbpf_cpp
+
+void bind_rbpf(py::module_& m) { nlosloc::bind_rbpf_cpp::define_module(m); }
 
 namespace nlosloc::bind {
 

@@ -16,7 +16,9 @@
 #include "nlosloc/situation/quality.hpp"
 
 namespace py = pybind11;
-using namespace nlosloc;
+
+// Helpers and using-directives stay in this file's namespace: the extension builds in unity batches.
+namespace nlosloc::bind_situation_cpp {
 using namespace nlosloc::situation;
 
 namespace {
@@ -32,7 +34,7 @@ void check_probability_rows(const MatX& p, const char* name) {
 }
 }  // namespace
 
-void bind_situation(py::module_& m) {
+void define_module(py::module_& m) {
   py::enum_<SpeedModel>(m, "SpeedModel", "Form of the speed-dependent two-state chain.")
       .value("Single", SpeedModel::kSingle, "Huerta eq. (15): at most one change per interval")
       .value("Multiple", SpeedModel::kMultiple, "Huerta eq. (17): any number of changes per interval")
@@ -223,3 +225,6 @@ void bind_situation(py::module_& m) {
       .def("restore", &ForwardFilter::restore, py::arg("snapshot"),
            "Restores a snapshot from save() (shapes are checked).");
 }
+}  // namespace nlosloc::bind_situation_cpp
+
+void bind_situation(py::module_& m) { nlosloc::bind_situation_cpp::define_module(m); }

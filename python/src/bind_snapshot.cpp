@@ -15,7 +15,9 @@
 #include "nlosloc/snapshot/snapshot.hpp"
 
 namespace py = pybind11;
-using namespace nlosloc;
+
+// Helpers and using-directives stay in this file's namespace: the extension builds in unity batches.
+namespace nlosloc::bind_snapshot_cpp {
 using namespace nlosloc::snapshot;
 
 namespace {
@@ -84,7 +86,7 @@ void baseline_methods(C& c) {
 
 }  // namespace
 
-void bind_snapshot(py::module_& m) {
+void define_module(py::module_& m) {
   py::class_<RowNoise>(m, "RowNoise",
                        "Noise model of one row in a fix: Gaussian or split (asymmetric) normal.")
       .def(py::init([](double center, double sigma_left, double sigma_right) {
@@ -270,6 +272,9 @@ void bind_snapshot(py::module_& m) {
         .def_property_readonly("path_metrics", &Urruela::path_metrics, "Viterbi metrics (minimum 0).");
   }
 }
+}  // namespace nlosloc::bind_snapshot_cpp
+
+void bind_snapshot(py::module_& m) { nlosloc::bind_snapshot_cpp::define_module(m); }
 
 namespace nlosloc::bind {
 
