@@ -21,19 +21,6 @@ namespace py = pybind11;
 namespace nlosloc::bind_situation_cpp {
 using namespace nlosloc::situation;
 
-namespace {
-/// Rows of probabilities: finite, >= 0, each summing to 1 (to 1e-9); ValueError naming `name`.
-void check_probability_rows(const MatX& p, const char* name) {
-  NLOSLOC_ENSURE(p.rows() >= 1 && p.cols() >= 1, std::string(name) + ": expected a (B, N_z) array");
-  for (Eigen::Index b = 0; b < p.rows(); ++b) {
-    NLOSLOC_ENSURE(
-        p.row(b).allFinite() && (p.row(b).array() >= 0.0).all() && std::abs(p.row(b).sum() - 1.0) <= 1e-9,
-        std::string(name) + ": expected rows of probabilities (>= 0, summing to 1), row " +
-            std::to_string(b) + " is not");
-  }
-}
-}  // namespace
-
 void define_module(py::module_& m) {
   py::enum_<SpeedModel>(m, "SpeedModel", "Form of the speed-dependent two-state chain.")
       .value("Single", SpeedModel::kSingle, "Huerta eq. (15): at most one change per interval")
@@ -174,9 +161,10 @@ void define_module(py::module_& m) {
 
   py::class_<ForwardFilter::Snapshot>(m, "ForwardFilterSnapshot", "State saved by ForwardFilter.save().")
       .def(py::init([](const MatX& gamma, const MatX& pred, long k, double log_evidence) {
-             nlosloc::detail::ensure_shape(pred, gamma.rows(), gamma.cols(), "pred");
-             check_probability_rows(gamma, "gamma");
-             check_probability_rows(pred, "pred");
+             NLOSLOC_ENSURE(gamma.rows() >= 1 && gamma.cols() >= 1, "gamma: expected a (B, N_z) array");
+             // The checks of ForwardFilter::restore (forward.hpp), without a filter to take B and N_z from.
+             check_probabilities(gamma, gamma.rows(), gamma.cols(), "gamma");
+             check_probabilities(pred, gamma.rows(), gamma.cols(), "pred");
              NLOSLOC_ENSURE(k >= 0, "k: expected a step index >= 0, got " + std::to_string(k));
              NLOSLOC_ENSURE(
                  !std::isnan(log_evidence) && log_evidence != std::numeric_limits<double>::infinity(),

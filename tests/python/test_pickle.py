@@ -176,12 +176,14 @@ def test_a_snapshot_built_by_hand_is_checked() -> None:
     f.restore(snap)
     assert f.step_index == 4 and f.last_log_evidence == -1.5
     np.testing.assert_array_equal(f.probabilities, g)
-    with pytest.raises(ValueError, match="gamma: expected rows of probabilities"):
+    with pytest.raises(ValueError, match="gamma: every row must hold probabilities"):
         situation.ForwardFilterSnapshot(np.array([[0.7, 0.4]]), np.array([[0.5, 0.5]]), 0, 0.0)
     with pytest.raises(ValueError, match=r"pred: expected shape \(2, 2\)"):
         situation.ForwardFilterSnapshot(g, g[:1], 0, 0.0)
     with pytest.raises(ValueError, match="k: expected a step index >= 0"):
         situation.ForwardFilterSnapshot(g, g, -1, 0.0)
+    with pytest.raises(ValueError, match=r"gamma: expected a \(B, N_z\) array"):
+        situation.ForwardFilterSnapshot(np.zeros((0, 2)), np.zeros((0, 2)), 0, 0.0)
     with pytest.raises(ValueError, match="log_evidence: expected a finite value or -inf"):
         situation.ForwardFilterSnapshot(g, g, 0, np.nan)
 
