@@ -25,8 +25,8 @@ step "Python package (pip install --no-build-isolation ., in the background: bui
 mkdir -p build
 pip_log=build/pip-install.log
 # setsid: its own process group, so that stopping it stops its cmake, ninja and compilers too.
-NLOSLOC_WERROR=ON CMAKE_BUILD_PARALLEL_LEVEL="$jobs" setsid .venv/bin/python -m pip install --no-build-isolation \
-  --no-deps --force-reinstall . >"$pip_log" 2>&1 &
+NLOSLOC_WERROR=ON CMAKE_BUILD_PARALLEL_LEVEL="$jobs" setsid \
+  .venv/bin/python -m pip install --no-build-isolation --no-deps --force-reinstall . >"$pip_log" 2>&1 &
 pip_pid=$!
 # Whatever stops this script (a failed step, Ctrl-C) stops the background build with it.
 stop_pip() { [ -n "${pip_pid:-}" ] && kill -- "-$pip_pid" 2>/dev/null || true; }
