@@ -20,8 +20,7 @@ augmented belief, biases included), so the copy steps on exactly as the original
 update's report (``bias``, ``last_step``, ``nlos_detected``) starts empty, until the next update
 (``copy.deepcopy`` keeps it). The Rbpf pickles as its models, options and ``save()`` snapshot
 (particles, weights, summaries, time and step: the copy steps on bit for bit as the original); the
-joint ``ParticleFilter`` does not (its per-thread random generators are more than what it exposes):
-give montecarlo.run a factory that builds it.
+joint ``ParticleFilter`` likewise, its snapshot holding its threads' random generators too.
 """
 
 from __future__ import annotations
@@ -289,3 +288,28 @@ def _reduce_rbpf(f: Any) -> tuple[Any, ...]:
 
 copyreg.pickle(_rbpf.RbpfSnapshot, _reduce_rbpf_snapshot)
 copyreg.pickle(_rbpf.Rbpf, _reduce_rbpf)
+
+
+def _reduce_pf_snapshot(s: Any) -> tuple[Any, ...]:
+    fields = (s.particles, s.situations, s.log_weights, s.situation_probabilities, s.estimate)
+    return type(s), (*fields, s.covariance, s.position_variance, s.generators, s.time, s.step)
+
+
+def _make_pf(args: tuple[Any, ...], snapshot: Any) -> Any:
+    f = _rbpf.ParticleFilter(*args)
+    f.restore(snapshot)
+    return f
+
+
+def _reduce_pf(f: Any) -> tuple[Any, ...]:
+    s = f.save()
+    n = len(s.estimate)
+    # The snapshot replaces the constructor's draw: any belief it accepts will do (the particle
+    # set's own covariance may be singular).
+    identity = [[1.0 if i == j else 0.0 for j in range(n)] for i in range(n)]
+    args = (f.motion, f.measurements, f.sight_process, f.quality, s.estimate, identity, f.options)
+    return _make_pf, (args, s)
+
+
+copyreg.pickle(_rbpf.PfSnapshot, _reduce_pf_snapshot)
+copyreg.pickle(_rbpf.ParticleFilter, _reduce_pf)

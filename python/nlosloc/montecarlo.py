@@ -74,10 +74,9 @@ def run(
         machines) and joins the chunks with :func:`merge`: the result equals the one of a single
         call. The arguments travel by pickle: factories of Python estimators must pickle too
         (module-level classes; dask also pickles lambdas). Options, models, the Kalman filters
-        (``Kf``, ``Ekf``, ``Ukf``, ``UkfAugmented``), the ``Iukf``, the ``Rbpf``, the Ke & Wu
-        trackers (``QpBiasEkf``, ``BiasAugmentedEkf``) and the built-in box-QP solvers pickle;
-        the joint ``ParticleFilter`` does not: give a module-level factory that builds it instead
-        (it still runs natively).
+        (``Kf``, ``Ekf``, ``Ukf``, ``UkfAugmented``), the ``Iukf``, the ``Rbpf``, the joint
+        ``ParticleFilter``, the Ke & Wu trackers (``QpBiasEkf``, ``BiasAugmentedEkf``) and the
+        built-in box-QP solvers pickle.
     chunk_runs : int, optional
         Runs per chunk with ``executor``; default ``ceil(runs / 16)``.
 

@@ -129,12 +129,24 @@ void summary_methods(C& c) {
           "every row this way before its first step).");
 }
 
-/// Accessors shared by Rbpf and ParticleFilter: options, models and reset.
-template <class A, class C>
+/// Accessors shared by Rbpf and ParticleFilter: options, models, reset, save and restore.
+template <class A, class Snapshot, class C>
 void particle_filter_methods(C& c) {
-  c.def_property_readonly(
-       "options", [](const A& a) { return a.visit([](const auto& f) { return f.options(); }); },
-       "The settings (a copy).")
+  c.def(
+       "save", [](const A& a) { return a.visit([](const auto& f) { return f.save(); }); },
+       "A snapshot of everything the next step depends on (the joint PF's: its random generators too): "
+       "restore() of it into a filter of this class with the same models and options makes that one "
+       "step on exactly as this one.")
+      .def(
+          "restore", [](A& a, const Snapshot& s) { a.visit([&](auto& f) { f.restore(s); }); },
+          py::arg("snapshot"),
+          "Sets the filter to a snapshot (checked first: ValueError naming the field, nothing changed).")
+      .def_property_readonly(
+          "step_index", [](const A& a) { return a.visit([](const auto& f) { return f.step_index(); }); },
+          "Steps taken since the last reset.")
+      .def_property_readonly(
+          "options", [](const A& a) { return a.visit([](const auto& f) { return f.options(); }); },
+          "The settings (a copy).")
       .def_property_readonly(
           "measurements", [](const A& a) { return a.visit([](const auto& f) { return f.measurements(); }); },
           "The measurement stack (a copy).")
@@ -295,6 +307,40 @@ void define_module(py::module_& m) {
           "seed", [](const PfOptions& o) { return o.seed; },
           [](PfOptions& o, const bind::UInt64Arg& v) { o.seed = v.get("seed"); });
 
+  py::class_<PfSnapshot>(m, "PfSnapshot",
+                         "What a ParticleFilter carries from one step to the next (ParticleFilter.save / "
+                         "ParticleFilter.restore): a checkpoint, and what pickling a ParticleFilter stores. "
+                         "Checked by ParticleFilter.restore.")
+      .def(py::init([](const MatX& particles, const Eigen::MatrixXi& situations, const VecX& log_weights,
+                       const MatX& situation_probabilities, const VecX& estimate, const MatX& covariance,
+                       double position_variance, const std::vector<std::uint64_t>& generators, double time,
+                       long step) {
+             return PfSnapshot{particles, situations, log_weights,       situation_probabilities,
+                               estimate,  covariance, position_variance, generators,
+                               time,      step};
+           }),
+           py::arg("particles"), py::arg("situations"), py::arg("log_weights"),
+           py::arg("situation_probabilities"), py::arg("estimate"), py::arg("covariance"),
+           py::arg("position_variance"), py::arg("generators"), py::arg("time"), py::arg("step"),
+           "particles (n, M), situations (B, M) condition indices, log_weights (M,) normalised, "
+           "situation_probabilities (B, N_z), estimate (n,), covariance (n, n), position_variance (eq. 31's "
+           "input), generators (GENERATOR_WORDS words per thread, as save() gives them), time (s), step.")
+      .def_readonly("particles", &PfSnapshot::particles, "(n, M) states.")
+      .def_readonly("situations", &PfSnapshot::situations, "(B, M) condition indices (0 = LOS).")
+      .def_readonly("log_weights", &PfSnapshot::log_weights, "(M,) normalised log weights.")
+      .def_readonly("situation_probabilities", &PfSnapshot::situation_probabilities, "(B, N_z).")
+      .def_readonly("estimate", &PfSnapshot::estimate, "Weighted mean after the last weighting.")
+      .def_readonly("covariance", &PfSnapshot::covariance, "Weighted covariance after the last weighting.")
+      .def_readonly("position_variance", &PfSnapshot::position_variance,
+                    "Its position variance as the step computed it (eq. 31's d_min).")
+      .def_readonly("generators", &PfSnapshot::generators,
+                    "The threads' random generators: GENERATOR_WORDS 64-bit words each (opaque).")
+      .def_readonly("time", &PfSnapshot::time)
+      .def_readonly("step", &PfSnapshot::step)
+      .def_property_readonly_static(
+          "GENERATOR_WORDS", [](const py::object&) { return PfSnapshot::kGeneratorWords; },
+          "Words per thread in generators.");
+
   py::class_<PfStepInfo>(m, "PfStepInfo", "What one PF step reports.")
       .def_readonly("log_likelihood", &PfStepInfo::log_likelihood)
       .def_readonly("ess", &PfStepInfo::ess)
@@ -359,23 +405,12 @@ void define_module(py::module_& m) {
             "log_weight",
             [](const A& a, int i) { return a.visit([&](const auto& f) { return f.log_weight(i); }); },
             py::arg("i"), "Normalised log weight of particle i.")
-        .def(
-            "save", [](const A& a) { return a.visit([](const auto& f) { return f.save(); }); },
-            "An RbpfSnapshot of everything the next step depends on: restore() of it into an Rbpf with the "
-            "same models and options makes that one step on exactly as this one.")
-        .def(
-            "restore", [](A& a, const RbpfSnapshot& s) { a.visit([&](auto& f) { f.restore(s); }); },
-            py::arg("snapshot"),
-            "Sets the filter to a snapshot (checked first: ValueError naming the field, nothing changed).")
-        .def_property_readonly(
-            "step_index", [](const A& a) { return a.visit([](const auto& f) { return f.step_index(); }); },
-            "Steps taken since the last reset.")
         .def_property_readonly(
             "num_anchors", [](const A& a) { return a.visit([](const auto& f) { return f.num_anchors(); }); })
         .def_property_readonly("num_conditions", [](const A& a) {
           return a.visit([](const auto& f) { return f.num_conditions(); });
         });
-    particle_filter_methods<A>(c);
+    particle_filter_methods<A, RbpfSnapshot>(c);
   }
   {
     using A = AnyPf;
@@ -418,7 +453,7 @@ void define_module(py::module_& m) {
         .def_property_readonly("num_particles", [](const A& a) {
           return a.visit([](const auto& f) { return f.num_particles(); });
         });
-    particle_filter_methods<A>(c);
+    particle_filter_methods<A, PfSnapshot>(c);
   }
   {
     using A = AnyIukf;

@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
 #include <vector>
 
 #include "nlosloc/core/logsumexp.hpp"
@@ -59,6 +62,39 @@ TEST_CASE("BatchRng lanes are the parent Rng jumped 1 to 4 times", "[pf][random]
   b.jump();
   CHECK(a() != b());
   CHECK(parent() == Rng(42, 7)());
+}
+
+TEST_CASE("Rng and BatchRng: save_state / restore_state continue the same sequence", "[pf][random]") {
+  Rng a(9, 2);
+  (void)a.normal();  // leaves a kept normal variate: part of the state
+  std::uint64_t words[Rng::kStateWords];
+  a.save_state(words);
+  CHECK(words[4] == 1);
+  Rng b(1, 1);
+  REQUIRE(b.restore_state(words));
+  CHECK(a.normal() == b.normal());  // the kept variate
+  for (int j = 0; j < 50; ++j) CHECK(a() == b());
+  BatchRng ba(Rng(5, 0)), bb(Rng(6, 0));
+  (void)ba.uniform();  // part of the buffer used: the position is part of the state
+  std::uint64_t bw[BatchRng::kStateWords];
+  ba.save_state(bw);
+  CHECK(bw[BatchRng::kStateWords - 1] == 1);
+  REQUIRE(bb.restore_state(bw));
+  double na[200], nb[200];
+  ba.fill_normal(na, 200);
+  bb.fill_normal(nb, 200);
+  CHECK(std::equal(na, na + 200, nb));
+  CHECK(ba.uniform() == bb.uniform());
+  // words no generator has are refused, and change nothing
+  std::uint64_t zero[Rng::kStateWords] = {};
+  CHECK_FALSE(b.restore_state(zero));
+  bw[BatchRng::kStateWords - 1] = BatchRng::kBuffer + 1;
+  CHECK_FALSE(bb.restore_state(bw));
+  bw[BatchRng::kStateWords - 1] = 0;
+  for (int w = 0; w < 4; ++w) bw[w * BatchRng::kLanes + 2] = 0;  // lane 2 all zero
+  CHECK_FALSE(bb.restore_state(bw));
+  CHECK(a() == b());
+  CHECK(ba.uniform() == bb.uniform());
 }
 
 TEST_CASE("pf_simd_lanes: the widest packet of the instruction set this file is compiled for", "[pf]") {
@@ -323,4 +359,141 @@ TEST_CASE("joint PF: a rejected step changes nothing, and the next step is that 
       }
     }
   }
+}
+
+namespace {
+/// Same particles, weights, summaries and time, exactly.
+bool same_pf(const ParticleFilter<ConstantVelocityClock2>& a,
+             const ParticleFilter<ConstantVelocityClock2>& b) {
+  return a.particles() == b.particles() && a.situations() == b.situations() &&
+         a.log_weights() == b.log_weights() && a.estimate() == b.estimate() &&
+         a.covariance() == b.covariance() && a.situation_probabilities() == b.situation_probabilities() &&
+         a.time() == b.time();
+}
+}  // namespace
+
+TEST_CASE("joint PF: a restored twin steps on bit for bit, resampled or not", "[pf]") {
+  const H2Setup h;
+  const auto& [motion, proc, q, st, g] = h;
+  const Gaussian<6> elsewhere{Vec<6>::Constant(40.0), Mat<6, 6>::Identity()};
+  struct Case {
+    PfResampling rs;
+    double ess;
+  };
+  // never resampled (the normalisation deferred), resampled every step (the copy deferred), merge-select
+  for (const Case c : {Case{PfResampling::kSystematic, 0.0}, Case{PfResampling::kSystematic, 1.0},
+                       Case{PfResampling::kMergeSelect, 0.5}})
+    for (int threads : {1, 2}) {
+      CAPTURE(static_cast<int>(c.rs), c.ess, threads);
+      PfOptions po;
+      po.num_particles = 2000;  // 15 blocks of 128 and a tail of 80
+      po.threads = threads;
+      po.resampling = c.rs;
+      po.ess_threshold = c.ess;
+      po.seed = 4;
+      ParticleFilter<ConstantVelocityClock2> a(motion, st, proc, q, g, po);
+      po.seed = 5;  // other generators and particles: restore() must replace them all
+      ParticleFilter<ConstantVelocityClock2> b(motion, st, proc, q, elsewhere, po);
+      Rng rng(3);
+      VecX y(6), o(6);
+      auto draw = [&] {
+        for (int j = 0; j < 6; ++j) {
+          y(j) = 3000.0 + 3.0 * rng.normal() + (j == 1 ? 400.0 : 0.0);  // anchor 1 NLOS
+          o(j) = j == 1 ? 0.3 : 0.7;
+        }
+      };
+      b.restore(a.save());  // straight after the reset
+      REQUIRE(same_pf(a, b));
+      for (int k = 0; k < 2; ++k) {
+        draw();
+        a.step(y, o);
+        b.step(y, o);
+      }
+      CHECK(same_pf(a, b));
+      for (int k = 0; k < 5; ++k) {
+        draw();
+        a.step(y, o);
+      }
+      const PfSnapshot s = a.save();
+      CHECK(s.step == 7);
+      CHECK(s.generators.size() == static_cast<std::size_t>(threads * PfSnapshot::kGeneratorWords));
+      b.restore(s);
+      REQUIRE(same_pf(a, b));
+      int differing = 0;
+      for (int k = 0; k < 10; ++k) {
+        draw();
+        const PfStepInfo ia = a.step(y, o), ib = b.step(y, o);
+        differing +=
+            same_pf(a, b) && ia.log_likelihood == ib.log_likelihood && ia.merged == ib.merged ? 0 : 1;
+      }
+      CHECK(differing == 0);
+    }
+}
+
+TEST_CASE("joint PF restore: a bad snapshot is refused, naming the field, and changes nothing", "[pf]") {
+  const H2Setup h;
+  const auto& [motion, proc, q, st, g] = h;
+  PfOptions po;
+  po.num_particles = 300;
+  po.threads = 2;
+  ParticleFilter<ConstantVelocityClock2> f(motion, st, proc, q, g, po);
+  VecX y = VecX::Constant(6, 3000.0), o = VecX::Constant(6, 0.7);
+  f.step(y, o);
+  const PfSnapshot good = f.save();
+  const auto refused = [&](const std::function<void(PfSnapshot&)>& edit) {
+    PfSnapshot s = good;
+    edit(s);
+    try {
+      f.restore(s);
+    } catch (const std::invalid_argument& e) {
+      const PfSnapshot now = f.save();  // unchanged
+      CHECK(now.particles == good.particles);
+      CHECK(now.generators == good.generators);
+      CHECK(now.step == good.step);
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  using Catch::Matchers::StartsWith;
+  CHECK_THAT(refused([](PfSnapshot& s) { s.particles.conservativeResize(Eigen::NoChange, 299); }),
+             StartsWith("snapshot.particles: expected shape (6, 300)"));
+  CHECK_THAT(refused([](PfSnapshot& s) { s.particles(2, 7) = std::nan(""); }),
+             StartsWith("snapshot.particles"));
+  CHECK_THAT(refused([](PfSnapshot& s) { s.situations.resize(5, 300); }),
+             StartsWith("snapshot.situations: expected shape (6, 300)"));
+  CHECK(refused([](PfSnapshot& s) { s.situations(1, 3) = 2; }) ==
+        "snapshot.situations: expected condition indices 0 to 1");
+  CHECK_THAT(refused([](PfSnapshot& s) { s.log_weights.resize(3); }),
+             StartsWith("snapshot.log_weights: expected shape (300, 1)"));
+  CHECK_THAT(
+      refused([](PfSnapshot& s) { s.log_weights.array() += 0.5; }),
+      StartsWith("snapshot.log_weights: expected normalised log weights (log-sum-exp 0), got log-sum-exp"));
+  CHECK(refused([](PfSnapshot& s) { s.log_weights[0] = std::nan(""); }) ==
+        "snapshot.log_weights: expected finite values or -inf");
+  CHECK(refused([](PfSnapshot& s) { s.situation_probabilities(4, 0) += 0.1; }) ==
+        "snapshot.situation_probabilities: every row must hold probabilities (>= 0) summing to 1; row 4 does "
+        "not");
+  CHECK_THAT(refused([](PfSnapshot& s) { s.estimate(0) = std::nan(""); }), StartsWith("snapshot.estimate"));
+  CHECK(refused([](PfSnapshot& s) { s.covariance(0, 1) += 1.0; }) ==
+        "snapshot.covariance: expected a symmetric positive semi-definite matrix");
+  CHECK(refused([](PfSnapshot& s) { s.covariance(2, 2) = -1.0; }) ==
+        "snapshot.covariance: expected a symmetric positive semi-definite matrix");
+  CHECK(refused([](PfSnapshot& s) { s.position_variance = -1.0; }) ==
+        "snapshot.position_variance: expected a finite value >= 0");
+  CHECK(refused([](PfSnapshot& s) { s.generators.pop_back(); }) ==
+        "snapshot.generators: expected 87 words for each of the filter's 2 threads (174), got 173");
+  // the second thread's BatchRng position beyond its buffer
+  CHECK(refused([](PfSnapshot& s) { s.generators.back() = 65; }) ==
+        "snapshot.generators: thread 1's words are no generator state (an all-zero state or a flag out of "
+        "range)");
+  CHECK(refused([](PfSnapshot& s) { s.time = std::nan(""); }) == "snapshot.time: expected a finite time (s)");
+  CHECK(refused([](PfSnapshot& s) { s.step = -1; }) == "snapshot.step: expected >= 0, got -1");
+  // a singular covariance (no spread along a direction) and a particle ruled out (-inf) are valid
+  CHECK(refused([](PfSnapshot& s) {
+          s.covariance.row(3).setZero();
+          s.covariance.col(3).setZero();
+          s.log_weights[7] = -std::numeric_limits<double>::infinity();
+          s.log_weights.array() -= log_sum_exp(s.log_weights);
+        }) == "accepted");
+  CHECK(f.covariance()(3, 3) == 0.0);
 }

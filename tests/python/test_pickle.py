@@ -324,6 +324,38 @@ def test_a_box_qp_object_is_a_solver_argument_and_bad_beliefs_are_refused() -> N
     assert b.time == 7.5 and b.bias[0] == mean[4] + 1.0
 
 
+RBPF_SNAPSHOT_FIELDS = (
+    "situations",
+    "means",
+    "covs",
+    "log_weights",
+    "situation_probabilities",
+    "estimate",
+    "covariance",
+    "time",
+    "step",
+)
+PF_SNAPSHOT_FIELDS = (
+    "particles",
+    "situations",
+    "log_weights",
+    "situation_probabilities",
+    "estimate",
+    "covariance",
+    "position_variance",
+    "generators",
+    "time",
+    "step",
+)
+
+
+def snapshot_with(s, fields: tuple[str, ...], **change):
+    """A new snapshot of s's class (through its constructor): s's fields, some of them changed."""
+    values = {f: getattr(s, f) for f in fields}
+    values.update(change)
+    return type(s)(**values)
+
+
 def h2_rbpf(variant: str, particles: int, threads: int = 1):
     from nlosloc import rbpf
 
@@ -385,7 +417,6 @@ def test_the_rbpf_pickles_mid_track_and_steps_on_bit_for_bit(variant: str, parti
 
 
 def test_an_rbpf_snapshot_is_checked_by_restore() -> None:
-    from nlosloc import rbpf
 
     f, d = h2_rbpf("reordered", 8)
     for k in range(10):
@@ -393,19 +424,7 @@ def test_an_rbpf_snapshot_is_checked_by_restore() -> None:
     s = f.save()
 
     def edited(**change):
-        fields = dict(
-            situations=s.situations,
-            means=s.means,
-            covs=s.covs,
-            log_weights=s.log_weights,
-            situation_probabilities=s.situation_probabilities,
-            estimate=s.estimate,
-            covariance=s.covariance,
-            time=s.time,
-            step=s.step,
-        )
-        fields.update(change)
-        return rbpf.RbpfSnapshot(**fields)
+        return snapshot_with(s, RBPF_SNAPSHOT_FIELDS, **change)
 
     bad_sit = s.situations.copy()
     bad_sit[0, 0] = 2
@@ -430,3 +449,96 @@ def test_an_rbpf_snapshot_is_checked_by_restore() -> None:
         assert f.step_index == 10
     f.restore(edited(covs=np.array(s.covs)))  # one (P, n, n) array is a list of covariances too
     np.testing.assert_array_equal(f.save().covs[3], s.covs[3])
+
+
+def h2_pf(resampling: str, threads: int, seed: int = 3):
+    from nlosloc import rbpf
+
+    s = sim.H2()
+    o = rbpf.PfOptions(num_particles=3000, threads=threads, seed=seed)
+    kinds = {"systematic": rbpf.PfResampling.Systematic, "merge": rbpf.PfResampling.MergeSelect}
+    o.resampling = kinds[resampling]
+    d = s.draw("default", 6, 0, 40)
+    q = situation.QualityModel(s.quality)
+    f = rbpf.ParticleFilter(
+        s.motion, s.measurements, s.sight_process, q, d["initial_mean"], d["initial_cov"], o
+    )
+    return f, d
+
+
+def same_pf(a, b) -> None:
+    assert (a.num_particles, a.step_index, a.time) == (b.num_particles, b.step_index, b.time)
+    np.testing.assert_array_equal(a.particles, b.particles)
+    np.testing.assert_array_equal(a.situations, b.situations)
+    np.testing.assert_array_equal(a.log_weights, b.log_weights)
+    np.testing.assert_array_equal(a.estimate, b.estimate)
+    np.testing.assert_array_equal(a.covariance, b.covariance)
+    np.testing.assert_array_equal(a.situation_probabilities, b.situation_probabilities)
+
+
+@pytest.mark.parametrize("resampling,threads", [("systematic", 1), ("merge", 2)])
+def test_the_joint_pf_pickles_mid_track_and_steps_on_bit_for_bit(
+    resampling: str, threads: int
+) -> None:
+    from nlosloc import rbpf
+
+    f, d = h2_pf(resampling, threads)
+    y, o = d["y"], d["quality"]
+    for k in range(15):
+        f.step(y[k], o[k])
+    g = roundtrip(f)
+    assert g.options.threads == threads and g.options.resampling == f.options.resampling
+    same_pf(g, f)
+    s = f.save()
+    assert s.step == 15 and s.particles.shape == (6, 3000) and s.situations.shape == (6, 3000)
+    assert len(s.generators) == threads * rbpf.PfSnapshot.GENERATOR_WORDS
+    for k in range(15, 40):
+        f.step(y[k], o[k])
+        g.step(y[k], o[k])
+    same_pf(g, f)
+    # a snapshot pickles too, and puts a filter with another seed back at step 15: it draws as f did
+    h, _ = h2_pf(resampling, threads, seed=11)
+    h.restore(pickle.loads(pickle.dumps(s)))
+    assert h.step_index == 15
+    for k in range(15, 40):
+        h.step(y[k], o[k])
+    same_pf(h, f)
+
+
+def test_a_pf_snapshot_is_checked_by_restore() -> None:
+
+    f, d = h2_pf("systematic", 2)
+    for k in range(5):
+        f.step(d["y"][k], d["quality"][k])
+    s = f.save()
+
+    def edited(**change):
+        return snapshot_with(s, PF_SNAPSHOT_FIELDS, **change)
+
+    bad_sit = s.situations.copy()
+    bad_sit[0, 0] = 2
+    zero_lane = list(s.generators)
+    zero_lane[6:22] = [0] * 16  # thread 0's BatchRng state (after its Rng's 6 words): a fixed point
+    cases = [
+        (edited(situations=bad_sit), "snapshot.situations: expected condition indices 0 to 1"),
+        (edited(particles=s.particles[:, :-1]), r"snapshot.particles: expected shape \(6, 3000\)"),
+        (edited(log_weights=s.log_weights + 1.0), "expected normalised log weights"),
+        (edited(position_variance=float("nan")), "snapshot.position_variance: expected a finite"),
+        (
+            edited(generators=s.generators[:-1]),
+            r"snapshot.generators: expected 87 words for each of the filter's 2 threads \(174\), "
+            "got 173",
+        ),
+        (edited(generators=zero_lane), "snapshot.generators: thread 0's words are no generator"),
+        (edited(step=-2), "snapshot.step: expected >= 0, got -2"),
+    ]
+    before = f.save()
+    for snap, message in cases:
+        with pytest.raises(ValueError, match=message):
+            f.restore(snap)
+        after = f.save()
+        np.testing.assert_array_equal(after.particles, before.particles)
+        assert after.generators == before.generators and f.step_index == 5
+    # a snapshot of the filter's own state is accepted, and leaves it as it was
+    f.restore(edited())
+    np.testing.assert_array_equal(f.save().particles, before.particles)

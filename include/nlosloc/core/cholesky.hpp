@@ -53,14 +53,32 @@ CholeskyStatus robust_cholesky(const Eigen::MatrixBase<DA>& A, Eigen::MatrixBase
   return CholeskyStatus::kFailed;
 }
 
+namespace detail {
+/// max|A| (at least 1e-300) when A is square, finite and symmetric within rel_tol of it; 0 otherwise.
+template <class D>
+double symmetric_scale(const Eigen::MatrixBase<D>& A, double rel_tol) {
+  if (A.rows() != A.cols() || !A.allFinite()) return 0.0;
+  const double s = std::max(A.cwiseAbs().maxCoeff(), 1e-300);
+  return (A - A.transpose()).cwiseAbs().maxCoeff() > rel_tol * s ? 0.0 : s;
+}
+}  // namespace detail
+
 /// True when A is symmetric (to rel. tolerance) and positive definite.
 template <class D>
 bool is_spd(const Eigen::MatrixBase<D>& A, double rel_tol = 1e-9) {
-  if (A.rows() != A.cols() || !A.allFinite()) return false;
-  const double s = std::max(A.cwiseAbs().maxCoeff(), 1e-300);
-  if ((A - A.transpose()).cwiseAbs().maxCoeff() > rel_tol * s) return false;
+  if (detail::symmetric_scale(A, rel_tol) == 0.0) return false;
   Eigen::LLT<typename D::PlainObject> llt(0.5 * (A + A.transpose()));
   return llt.info() == Eigen::Success;
+}
+
+/// True when A is symmetric (to rel. tolerance) and positive semi-definite: the pivots of its LDLT are
+/// >= -rel_tol max|A| (a weighted particle set's covariance, singular along a direction without spread).
+template <class D>
+bool is_spsd(const Eigen::MatrixBase<D>& A, double rel_tol = 1e-9) {
+  const double s = detail::symmetric_scale(A, rel_tol);
+  if (s == 0.0) return false;
+  Eigen::LDLT<typename D::PlainObject> ldlt(0.5 * (A + A.transpose()));
+  return ldlt.info() == Eigen::Success && (ldlt.vectorD().array() >= -rel_tol * s).all();
 }
 
 }  // namespace nlosloc

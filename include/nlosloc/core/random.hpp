@@ -87,6 +87,25 @@ class Rng {
   /// The four words of the xoshiro256 state (for BatchRng).
   std::array<std::uint64_t, 4> state() const { return {s_[0], s_[1], s_[2], s_[3]}; }
 
+  /// Words of save_state(): the four state words, the kept normal's flag (0 or 1) and its bits.
+  static constexpr int kStateWords = 6;
+  /// The whole state, kept normal variate included: restore_state() of it continues the same sequence (a
+  /// checkpoint of a filter that draws).
+  void save_state(std::uint64_t* out) const {
+    for (int w = 0; w < 4; ++w) out[w] = s_[w];
+    out[4] = has_spare_ ? 1 : 0;
+    std::memcpy(&out[5], &spare_, sizeof spare_);
+  }
+  /// Sets the state from kStateWords words of save_state(). Returns false and changes nothing for words no
+  /// generator has: an all-zero xoshiro state (a fixed point) or a flag other than 0 or 1.
+  bool restore_state(const std::uint64_t* in) {
+    if ((in[0] | in[1] | in[2] | in[3]) == 0 || in[4] > 1) return false;
+    for (int w = 0; w < 4; ++w) s_[w] = in[w];
+    has_spare_ = in[4] == 1;
+    std::memcpy(&spare_, &in[5], sizeof spare_);
+    return true;
+  }
+
   /// Uniform integer in [0, n), n > 0 (Lemire's unbiased multiply-shift).
   std::uint64_t below(std::uint64_t n) {
     __uint128_t m = static_cast<__uint128_t>((*this)()) * n;
@@ -213,6 +232,29 @@ class BatchRng {
   }
   /// Uniform in (0, 1) with 53 random bits, as Rng::uniform().
   double uniform() { return (static_cast<double>(next() >> 11) + 0.5) * 0x1.0p-53; }
+
+  /// Words of save_state(): each lane's four state words (word w of lane l at w kLanes + l), the buffer of
+  /// drawn words and the position of the next one in it (0 to kBuffer).
+  static constexpr int kStateWords = 4 * kLanes + kBuffer + 1;
+  /// The whole state, buffered words included: restore_state() of it continues the same sequence.
+  void save_state(std::uint64_t* out) const {
+    for (int w = 0; w < 4; ++w)
+      for (int l = 0; l < kLanes; ++l) out[w * kLanes + l] = s_[w][l];
+    std::memcpy(out + 4 * kLanes, buf_, sizeof buf_);
+    out[kStateWords - 1] = static_cast<std::uint64_t>(pos_);
+  }
+  /// Sets the state from kStateWords words of save_state(). Returns false and changes nothing for words no
+  /// generator has: a lane with an all-zero state (a fixed point) or a position beyond kBuffer.
+  bool restore_state(const std::uint64_t* in) {
+    if (in[kStateWords - 1] > static_cast<std::uint64_t>(kBuffer)) return false;
+    for (int l = 0; l < kLanes; ++l)
+      if ((in[l] | in[kLanes + l] | in[2 * kLanes + l] | in[3 * kLanes + l]) == 0) return false;
+    for (int w = 0; w < 4; ++w)
+      for (int l = 0; l < kLanes; ++l) s_[w][l] = in[w * kLanes + l];
+    std::memcpy(buf_, in + 4 * kLanes, sizeof buf_);
+    pos_ = static_cast<int>(in[kStateWords - 1]);
+    return true;
+  }
 
   /// n standard normal variates by the ziggurat method (Marsaglia and Tsang 2000, 256 layers): exact
   /// sampling of N(0, 1) (rectangles accepted directly, wedges by rejection, the tail by Marsaglia's 1964

@@ -47,6 +47,7 @@
 #include "nlosloc/rbpf/merge.hpp"
 #include "nlosloc/rbpf/offspring.hpp"
 #include "nlosloc/rbpf/thread_pool.hpp"
+#include "nlosloc/situation/forward.hpp"
 #include "nlosloc/situation/markov.hpp"
 #include "nlosloc/situation/quality.hpp"
 
@@ -74,6 +75,24 @@ struct PfStepInfo {
   double ess = 0.0;             ///< effective sample size after weighting, before resampling
   bool resampled = false;
   int merged = 0;
+};
+
+/// What a ParticleFilter carries from one step to the next (ParticleFilter::save / restore): a checkpoint
+/// of a long track, and what pickling stores from Python. M particles, B anchors, N_z conditions, n state
+/// entries, T threads.
+struct PfSnapshot {
+  MatX particles;                  ///< n x M states (as particles())
+  Eigen::MatrixXi situations;      ///< B x M condition indices, 0 .. N_z - 1 (0 = LOS; as situations())
+  VecX log_weights;                ///< M normalised log weights (their log-sum-exp is 0)
+  MatX situation_probabilities;    ///< B x N_z, rows summing to 1
+  VecX estimate;                   ///< weighted mean after the last weighting
+  MatX covariance;                 ///< weighted covariance after the last weighting (n x n, PSD)
+  double position_variance = 0.0;  ///< its position variance as the step computed it (eq. 31's d_min)
+  std::vector<std::uint64_t> generators;  ///< the T threads' random generators, kGeneratorWords each
+  double time = 0.0;                      ///< (s)
+  long step = 0;                          ///< steps since the reset
+  /// Words per thread in `generators`: its Rng (resampling draws), then its BatchRng (the pass's draws).
+  static constexpr int kGeneratorWords = Rng::kStateWords + BatchRng::kStateWords;
 };
 
 /// Chunk t of T of systematic resampling (Kitagawa 1996; Douc et al. 2005) over unnormalised weights w:
@@ -313,6 +332,91 @@ class ParticleFilter {
     summarise();
   }
 
+  /// Everything the next step depends on: the particles (a pending resampling applied), their weights, the
+  /// summaries, the random generators, time and step index. restore() of it into a filter built with the
+  /// same models and options makes that filter step on exactly as this one, bit for bit.
+  PfSnapshot save() const {
+    PfSnapshot s;
+    s.particles = particles();
+    s.situations = situations();
+    s.log_weights = log_weights();
+    s.situation_probabilities = prob_;
+    s.estimate = est_;
+    s.covariance = covariance();
+    s.position_variance = pos_var_;
+    s.generators.resize(static_cast<std::size_t>(pool_->size()) * PfSnapshot::kGeneratorWords);
+    for (int t = 0; t < pool_->size(); ++t) {
+      std::uint64_t* g = &s.generators[static_cast<std::size_t>(t) * PfSnapshot::kGeneratorWords];
+      rng_[static_cast<std::size_t>(t)].save_state(g);
+      brng_[static_cast<std::size_t>(t)].save_state(g + Rng::kStateWords);
+    }
+    s.time = t_;
+    s.step = k_;
+    return s;
+  }
+
+  /// Sets the filter to a snapshot (save() of a filter with the same models and options, or one built by
+  /// hand). Checked first, std::invalid_argument naming the field (the filter is then unchanged):
+  /// particles n x M, finite; situations B x M in 0 .. N_z - 1; log weights M, finite or -inf, with a
+  /// log-sum-exp within 1e-9 of 0; probabilities B x N_z in [0, 1] with rows summing to 1, both within
+  /// 1e-9; a finite estimate; a symmetric positive semi-definite covariance; a finite position variance
+  /// >= 0; generators of options().threads threads as save() writes them; a finite time; step >= 0.
+  void restore(const PfSnapshot& s) {
+    namespace nd = ::nlosloc::detail;
+    nd::ensure_shape(s.particles, N, M_, "snapshot.particles");
+    nd::ensure_finite(s.particles, "snapshot.particles");
+    nd::ensure_shape(s.situations, B_, M_, "snapshot.situations");
+    NLOSLOC_ENSURE(s.situations.minCoeff() >= 0 && s.situations.maxCoeff() < nz_,
+                   "snapshot.situations: expected condition indices 0 to " + std::to_string(nz_ - 1));
+    nd::ensure_shape(s.log_weights, M_, 1, "snapshot.log_weights");
+    NLOSLOC_ENSURE(are_log_weights(s.log_weights), "snapshot.log_weights: expected finite values or -inf");
+    const double total = log_sum_exp(s.log_weights);
+    NLOSLOC_ENSURE(std::abs(total) <= 1e-9,
+                   "snapshot.log_weights: expected normalised log weights (log-sum-exp 0), got log-sum-exp " +
+                       std::to_string(total));
+    situation::check_probabilities(s.situation_probabilities, B_, nz_, "snapshot.situation_probabilities");
+    nd::ensure_shape(s.estimate, N, 1, "snapshot.estimate");
+    nd::ensure_finite(s.estimate, "snapshot.estimate");
+    nd::ensure_shape(s.covariance, N, N, "snapshot.covariance");
+    NLOSLOC_ENSURE(is_spsd(s.covariance),
+                   "snapshot.covariance: expected a symmetric positive semi-definite matrix");
+    NLOSLOC_ENSURE(std::isfinite(s.position_variance) && s.position_variance >= 0.0,
+                   "snapshot.position_variance: expected a finite value >= 0");
+    const auto T = static_cast<std::size_t>(pool_->size());
+    NLOSLOC_ENSURE(s.generators.size() == T * PfSnapshot::kGeneratorWords,
+                   "snapshot.generators: expected " + std::to_string(PfSnapshot::kGeneratorWords) +
+                       " words for each of the filter's " + std::to_string(T) + " threads (" +
+                       std::to_string(T * PfSnapshot::kGeneratorWords) + "), got " +
+                       std::to_string(s.generators.size()));
+    // Into copies first: a word no generator has leaves the filter unchanged.
+    std::vector<Rng> rng = rng_;
+    std::vector<BatchRng> brng = brng_;
+    for (std::size_t t = 0; t < T; ++t) {
+      const std::uint64_t* g = &s.generators[t * PfSnapshot::kGeneratorWords];
+      NLOSLOC_ENSURE(rng[t].restore_state(g) && brng[t].restore_state(g + Rng::kStateWords),
+                     "snapshot.generators: thread " + std::to_string(t) +
+                         "'s words are no generator state (an all-zero state or a flag out of range)");
+    }
+    NLOSLOC_ENSURE(std::isfinite(s.time), "snapshot.time: expected a finite time (s)");
+    NLOSLOC_ENSURE(s.step >= 0, "snapshot.step: expected >= 0, got " + std::to_string(s.step));
+    for (int d = 0; d < N; ++d)
+      for (int i = 0; i < M_; ++i) x_[idx(d, i)] = s.particles(d, i);
+    for (int b = 0; b < B_; ++b)
+      for (int i = 0; i < M_; ++i) s_[sidx(b, i)] = static_cast<std::uint8_t>(s.situations(b, i));
+    logw_ = s.log_weights;
+    shift_ = 0.0;
+    resampled_ = false;
+    rng_.swap(rng);
+    brng_.swap(brng);
+    prob_ = s.situation_probabilities;
+    est_ = s.estimate;
+    est_cov_ = s.covariance;
+    cov_ready_ = true;
+    pos_var_ = s.position_variance;
+    t_ = s.time;
+    k_ = s.step;
+  }
+
   /// One step with measurements y (NaN = missing) and quality statistics o (size B, NaN = missing).
   PfStepInfo step(const Eigen::Ref<const VecX>& y, const Eigen::Ref<const VecX>& o) {
     situation::check_step_inputs(meas_, quality_, y, o, Lq_);
@@ -418,6 +522,8 @@ class ParticleFilter {
     return logw_;
   }
   double time() const { return t_; }
+  /// Steps taken since the last reset.
+  long step_index() const { return k_; }
   const PfOptions& options() const { return opt_; }
   const Motion& motion() const { return motion_; }
   const Meas& measurements() const { return meas_; }

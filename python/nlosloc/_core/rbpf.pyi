@@ -10,7 +10,7 @@ import nlosloc._core.situation
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfSnapshot', 'RbpfStepInfo', 'RbpfVariant', 'decode_situation', 'default_merge_threshold', 'encode_situation', 'enumerate_best', 'enumerate_offspring', 'merge_greedy', 'pf_simd_lanes', 'select_top', 'situation_count', 'systematic_resample']
+__all__: list[str] = ['Iukf', 'ParticleFilter', 'PfOptions', 'PfResampling', 'PfSnapshot', 'PfStepInfo', 'Rbpf', 'RbpfOptions', 'RbpfSnapshot', 'RbpfStepInfo', 'RbpfVariant', 'decode_situation', 'default_merge_threshold', 'encode_situation', 'enumerate_best', 'enumerate_offspring', 'merge_greedy', 'pf_simd_lanes', 'select_top', 'situation_count', 'systematic_resample']
 class RbpfVariant:
     """
     Order of the RBPF iteration.
@@ -266,6 +266,61 @@ class PfOptions:
     @threads.setter
     def threads(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
+class PfSnapshot:
+    """
+    What a ParticleFilter carries from one step to the next (ParticleFilter.save / ParticleFilter.restore): a checkpoint, and what pickling a ParticleFilter stores. Checked by ParticleFilter.restore.
+    """
+    GENERATOR_WORDS: typing.ClassVar[int] = 87
+    def __init__(self, particles: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], situations: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"], log_weights: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], situation_probabilities: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], estimate: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], covariance: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], position_variance: typing.SupportsFloat | typing.SupportsIndex, generators: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], time: typing.SupportsFloat | typing.SupportsIndex, step: typing.SupportsInt | typing.SupportsIndex) -> None:
+        """
+        particles (n, M), situations (B, M) condition indices, log_weights (M,) normalised, situation_probabilities (B, N_z), estimate (n,), covariance (n, n), position_variance (eq. 31's input), generators (GENERATOR_WORDS words per thread, as save() gives them), time (s), step.
+        """
+    @property
+    def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Weighted covariance after the last weighting.
+        """
+    @property
+    def estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Weighted mean after the last weighting.
+        """
+    @property
+    def generators(self) -> list[int]:
+        """
+        The threads' random generators: GENERATOR_WORDS 64-bit words each (opaque).
+        """
+    @property
+    def log_weights(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (M,) normalised log weights.
+        """
+    @property
+    def particles(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (n, M) states.
+        """
+    @property
+    def position_variance(self) -> float:
+        """
+        Its position variance as the step computed it (eq. 31's d_min).
+        """
+    @property
+    def situation_probabilities(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (B, N_z).
+        """
+    @property
+    def situations(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
+        """
+        (B, M) condition indices (0 = LOS).
+        """
+    @property
+    def step(self) -> int:
+        ...
+    @property
+    def time(self) -> float:
+        ...
 class PfStepInfo:
     """
     What one PF step reports.
@@ -320,7 +375,7 @@ class Rbpf:
         """
     def save(self) -> RbpfSnapshot:
         """
-        An RbpfSnapshot of everything the next step depends on: restore() of it into an Rbpf with the same models and options makes that one step on exactly as this one.
+        A snapshot of everything the next step depends on (the joint PF's: its random generators too): restore() of it into a filter of this class with the same models and options makes that one step on exactly as this one.
         """
     def sight_estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         """
@@ -413,9 +468,17 @@ class ParticleFilter:
         """
         Restarts from N(mean, cov) at time t0 (validated; a rejected call changes nothing).
         """
+    def restore(self, snapshot: PfSnapshot) -> None:
+        """
+        Sets the filter to a snapshot (checked first: ValueError naming the field, nothing changed).
+        """
     def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], O: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> dict:
         """
         As Rbpf.run.
+        """
+    def save(self) -> PfSnapshot:
+        """
+        A snapshot of everything the next step depends on (the joint PF's: its random generators too): restore() of it into a filter of this class with the same models and options makes that one step on exactly as this one.
         """
     def sight_estimate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         """
@@ -477,6 +540,11 @@ class ParticleFilter:
     @property
     def situations(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
         ...
+    @property
+    def step_index(self) -> int:
+        """
+        Steps taken since the last reset.
+        """
     @property
     def time(self) -> float:
         """
