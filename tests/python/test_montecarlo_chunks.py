@@ -382,14 +382,17 @@ def test_an_executor_runs_a_factory_that_holds_options() -> None:
     assert_same_runs(on_spawn_pool(k1, entries), local)
 
 
-def test_an_rbpf_object_travels_to_spawned_workers() -> None:
+def test_an_rbpf_and_a_pf_object_travel_to_spawned_workers() -> None:
     h1 = sim.H1()
     o = rbpf.RbpfOptions()
     o.variant = rbpf.RbpfVariant.Reordered
     o.num_particles = h1.params.rbpf_particles
     q = situation.QualityModel(h1.quality)
     mine = rbpf.Rbpf(h1.motion, h1.measurements, h1.sight_process, q, np.zeros(4), np.eye(4), o)
-    entries = ["rRBPF-8", ("mine", mine)]
+    po = rbpf.PfOptions(num_particles=500, seed=9)
+    args = (h1.motion, h1.measurements, h1.sight_process, q, np.zeros(4), np.eye(4))
+    pf = rbpf.ParticleFilter(*args, po)
+    entries = ["rRBPF-8", ("mine", mine), ("pf", pf)]
     local = montecarlo.run(h1, "default", 4, 3, entries, steps=120, progress=False)
     np.testing.assert_array_equal(
         local["estimators"]["mine"]["errors"], local["estimators"]["rRBPF-8"]["errors"]
