@@ -88,6 +88,8 @@ TEST_CASE("Rng and BatchRng: save_state / restore_state continue the same sequen
   // words no generator has are refused, and change nothing
   std::uint64_t zero[Rng::kStateWords] = {};
   CHECK_FALSE(b.restore_state(zero));
+  words[4] = 2;  // the kept normal's flag is 0 or 1
+  CHECK_FALSE(b.restore_state(words));
   bw[BatchRng::kStateWords - 1] = BatchRng::kBuffer + 1;
   CHECK_FALSE(bb.restore_state(bw));
   bw[BatchRng::kStateWords - 1] = 0;
@@ -484,8 +486,8 @@ TEST_CASE("joint PF restore: a bad snapshot is refused, naming the field, and ch
         "snapshot.generators: expected 87 words for each of the filter's 2 threads (174), got 173");
   // the second thread's BatchRng position beyond its buffer
   CHECK(refused([](PfSnapshot& s) { s.generators.back() = 65; }) ==
-        "snapshot.generators: thread 1's words are no generator state (an all-zero state or a flag out of "
-        "range)");
+        "snapshot.generators: thread 1's words are no generator state (an all-zero state, or a flag or "
+        "buffer position out of range)");
   CHECK(refused([](PfSnapshot& s) { s.time = std::nan(""); }) == "snapshot.time: expected a finite time (s)");
   CHECK(refused([](PfSnapshot& s) { s.step = -1; }) == "snapshot.step: expected >= 0, got -1");
   // a singular covariance (no spread along a direction) and a particle ruled out (-inf) are valid

@@ -393,9 +393,11 @@ class ParticleFilter {
     std::vector<BatchRng> brng = brng_;
     for (std::size_t t = 0; t < T; ++t) {
       const std::uint64_t* g = &s.generators[t * PfSnapshot::kGeneratorWords];
-      NLOSLOC_ENSURE(rng[t].restore_state(g) && brng[t].restore_state(g + Rng::kStateWords),
-                     "snapshot.generators: thread " + std::to_string(t) +
-                         "'s words are no generator state (an all-zero state or a flag out of range)");
+      NLOSLOC_ENSURE(
+          rng[t].restore_state(g) && brng[t].restore_state(g + Rng::kStateWords),
+          "snapshot.generators: thread " + std::to_string(t) +
+              "'s words are no generator state (an all-zero state, or a flag or buffer position out "
+              "of range)");
     }
     NLOSLOC_ENSURE(std::isfinite(s.time), "snapshot.time: expected a finite time (s)");
     NLOSLOC_ENSURE(s.step >= 0, "snapshot.step: expected >= 0, got " + std::to_string(s.step));
