@@ -20,7 +20,8 @@ augmented belief, biases included), so the copy steps on exactly as the original
 update's report (``bias``, ``last_step``, ``nlos_detected``) starts empty, until the next update
 (``copy.deepcopy`` keeps it). The Rbpf pickles as its models, options and ``save()`` snapshot
 (particles, weights, summaries, time and step: the copy steps on bit for bit as the original); the
-joint ``ParticleFilter`` likewise, its snapshot holding its threads' random generators too.
+joint ``ParticleFilter`` likewise, its snapshot holding its threads' random generators too (the
+generators ``core.Rng`` and ``core.BatchRng`` pickle in the extension module, as their state words).
 """
 
 from __future__ import annotations

@@ -6,6 +6,9 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
 
 #include "bind.hpp"
 #include "int_arg.hpp"
@@ -19,6 +22,40 @@ namespace py = pybind11;
 // Helpers and using-directives stay in this file's namespace: the extension builds in unity batches.
 namespace nlosloc::bind_core_cpp {
 
+/// A generator's whole state (Rng / BatchRng::save_state) as a list of 64-bit words.
+template <class G>
+std::vector<std::uint64_t> state_words(const G& g) {
+  std::vector<std::uint64_t> w(G::kStateWords);
+  g.save_state(w.data());
+  return w;
+}
+
+/// Sets g from words of state_words(); ValueError naming `words` (g unchanged) for a wrong count or words no
+/// generator has.
+template <class G>
+void set_state_words(G& g, const std::vector<std::uint64_t>& words) {
+  NLOSLOC_ENSURE(words.size() == static_cast<std::size_t>(G::kStateWords),
+                 "words: expected " + std::to_string(G::kStateWords) + " 64-bit words (save_state()), got " +
+                     std::to_string(words.size()));
+  NLOSLOC_ENSURE(g.restore_state(words.data()),
+                 "words: no generator state (an all-zero state, or a flag or buffer position out of range)");
+}
+
+/// save_state / restore_state and pickling (as its state words) of a generator class.
+template <class G, class C>
+void state_methods(C& c) {
+  c.def("save_state", &state_words<G>,
+        "The whole state as a list of 64-bit words: restore_state() of it continues the same sequence.")
+      .def("restore_state", &set_state_words<G>, py::arg("words"),
+           "Sets the state from save_state() words (checked first: ValueError, nothing changed).")
+      .def(py::pickle([](const G& g) { return py::make_tuple(state_words(g)); },
+                      [](const py::tuple& t) {
+                        G g;
+                        set_state_words(g, t[0].cast<std::vector<std::uint64_t>>());
+                        return g;
+                      }));
+}
+
 void define_module(py::module_& m) {
   // register_exception also installs the translator: a bare py::exception<> only creates the type, and
   // the C++ NumericalError then reached Python as a plain RuntimeError.
@@ -27,12 +64,13 @@ void define_module(py::module_& m) {
       "Raised when a step cannot be completed numerically (a covariance that is not positive definite "
       "even with the Cholesky fallback). The filter keeps the belief it had before the call.";
 
-  py::class_<Rng>(m, "Rng", "Seeded xoshiro256++ generator; every random draw of nlosloc goes through one.")
-      .def(py::init([](const bind::UInt64Arg& seed, const bind::UInt64Arg& stream) {
-             return Rng(seed.get("seed"), stream.get("stream"));
-           }),
-           py::arg("seed") = 0, py::arg("stream") = 0,
-           "Generator for `seed`; `stream` selects an independent sequence (e.g. a Monte Carlo run).")
+  py::class_<Rng> rng(m, "Rng",
+                      "Seeded xoshiro256++ generator; every random draw of nlosloc goes through one.");
+  rng.def(py::init([](const bind::UInt64Arg& seed, const bind::UInt64Arg& stream) {
+            return Rng(seed.get("seed"), stream.get("stream"));
+          }),
+          py::arg("seed") = 0, py::arg("stream") = 0,
+          "Generator for `seed`; `stream` selects an independent sequence (e.g. a Monte Carlo run).")
       .def("uniform", &Rng::uniform, "Uniform draw in the open interval (0, 1).")
       .def("normal", py::overload_cast<>(&Rng::normal), "Standard normal draw.")
       .def(
@@ -75,12 +113,13 @@ void define_module(py::module_& m) {
       .def("state", &Rng::state, "The four 64-bit words of the xoshiro256 state.")
       .def(
           "__call__", [](Rng& r) { return r(); }, "Next raw 64-bit output.");
+  state_methods<Rng>(rng);
 
-  py::class_<BatchRng>(
+  py::class_<BatchRng> batch(
       m, "BatchRng",
-      "Bulk generator of the particle filter: 4 xoshiro256++ lanes in lockstep, lane l being "
-      "the parent Rng jumped l + 1 times (the parent is not advanced).")
-      .def(py::init<Rng>(), py::arg("parent"), "Lanes derived from `parent` by jumps.")
+      "Bulk generator of the particle filter: 4 xoshiro256++ lanes in lockstep, lane l "
+      "being the parent Rng jumped l + 1 times (the parent is not advanced).");
+  batch.def(py::init<Rng>(), py::arg("parent"), "Lanes derived from `parent` by jumps.")
       .def(
           "bits",
           [](BatchRng& r, py::ssize_t n_quads) {
@@ -117,6 +156,7 @@ void define_module(py::module_& m) {
       .def("uniform", &BatchRng::uniform, "One uniform in (0, 1) with 53 random bits.")
       .def(
           "__call__", [](BatchRng& r) { return r.next(); }, "Next raw 64-bit word.");
+  state_methods<BatchRng>(batch);
 
   py::class_<SigmaWeights>(m, "SigmaWeights", "Weights of a 2n+1 sigma-point set.")
       .def_readonly("gamma", &SigmaWeights::gamma, "Spread: points are mean +- gamma * L[:, i].")

@@ -1,4 +1,5 @@
-"""Python forms of C++ core and RBPF helpers: Rng.reseed / normal(mu, sigma), log_normalize,
+"""Python forms of C++ core and RBPF helpers: Rng.reseed / normal(mu, sigma), the generators' saved
+states and pickling, log_normalize,
 gaussian_log_pdf_chol, is_spd, encode/decode_situation, Iukf.motion / dim."""
 
 from __future__ import annotations
@@ -27,6 +28,36 @@ def test_rng_reseed_and_scaled_normal() -> None:
         a.normal(np.inf, 1.0)
     with pytest.raises(ValueError, match=r"stream: expected an integer in \[0, 2\*\*64 - 1\]"):
         a.reseed(1, -1)
+
+
+def test_generator_states_and_pickles_continue_the_sequence() -> None:
+    import pickle
+
+    r = core.Rng(4, 1)
+    r.normal()  # keeps the second variate: part of the state
+    words = r.save_state()
+    assert len(words) == 6 and words[4] == 1
+    other = core.Rng(99)
+    other.restore_state(words)
+    copy = pickle.loads(pickle.dumps(r))
+    assert other.normal() == copy.normal() == r.normal()
+    assert [other() for _ in range(5)] == [copy() for _ in range(5)] == [r() for _ in range(5)]
+    b = core.BatchRng(core.Rng(8))
+    b.uniform()  # part of its buffer used
+    bw = b.save_state()
+    assert len(bw) == 81 and bw[-1] == 1
+    c = pickle.loads(pickle.dumps(b))
+    np.testing.assert_array_equal(c.normals(300), b.normals(300))
+    assert c() == b()
+    before = other.save_state()
+    count = r"words: expected 6 64-bit words \(save_state\(\)\), got 5"
+    with pytest.raises(ValueError, match=count):
+        other.restore_state(words[:5])
+    with pytest.raises(ValueError, match="words: no generator state"):
+        other.restore_state([0, 0, 0, 0, 0, 0])
+    with pytest.raises(ValueError, match="words: no generator state"):
+        b.restore_state(bw[:-1] + [65])  # the buffer holds 64 words
+    assert other.save_state() == before
 
 
 def test_log_normalize_against_scipy() -> None:

@@ -2,6 +2,7 @@
 Core types: Gaussian beliefs, sigma points, robust Cholesky, Rng.
 """
 from __future__ import annotations
+import collections.abc
 import numpy
 import numpy.typing
 import typing
@@ -18,10 +19,14 @@ class Rng:
         """
         Next raw 64-bit output.
         """
+    def __getstate__(self) -> tuple[list[int]]:
+        ...
     def __init__(self, seed: int = 0, stream: int = 0) -> None:
         """
         Generator for `seed`; `stream` selects an independent sequence (e.g. a Monte Carlo run).
         """
+    def __setstate__(self, arg0: tuple) -> None:
+        ...
     def below(self, n: typing.SupportsInt | typing.SupportsIndex) -> int:
         """
         Uniform integer in [0, n), n >= 1.
@@ -48,6 +53,14 @@ class Rng:
         """
         Restarts the generator as Rng(seed, stream) would (in place, e.g. the rng a Monte Carlo estimator is given).
         """
+    def restore_state(self, words: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+        """
+        Sets the state from save_state() words (checked first: ValueError, nothing changed).
+        """
+    def save_state(self) -> list[int]:
+        """
+        The whole state as a list of 64-bit words: restore_state() of it continues the same sequence.
+        """
     def state(self) -> typing.Annotated[list[int], "FixedSize(4)"]:
         """
         The four 64-bit words of the xoshiro256 state.
@@ -64,10 +77,14 @@ class BatchRng:
         """
         Next raw 64-bit word.
         """
+    def __getstate__(self) -> tuple[list[int]]:
+        ...
     def __init__(self, parent: Rng) -> None:
         """
         Lanes derived from `parent` by jumps.
         """
+    def __setstate__(self, arg0: tuple) -> None:
+        ...
     def bits(self, n_quads: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.uint64]:
         """
         4 * n_quads raw words, shape (4 n_quads,): word 4 j + l is lane l's j-th output.
@@ -75,6 +92,14 @@ class BatchRng:
     def normals(self, n: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
         """
         n standard normal variates (ziggurat, Marsaglia and Tsang 2000); shape (n,).
+        """
+    def restore_state(self, words: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+        """
+        Sets the state from save_state() words (checked first: ValueError, nothing changed).
+        """
+    def save_state(self) -> list[int]:
+        """
+        The whole state as a list of 64-bit words: restore_state() of it continues the same sequence.
         """
     def uniform(self) -> float:
         """
