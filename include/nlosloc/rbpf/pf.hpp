@@ -46,6 +46,7 @@
 #include "nlosloc/models/measurement.hpp"
 #include "nlosloc/rbpf/merge.hpp"
 #include "nlosloc/rbpf/offspring.hpp"
+#include "nlosloc/rbpf/snapshot_check.hpp"
 #include "nlosloc/rbpf/thread_pool.hpp"
 #include "nlosloc/situation/forward.hpp"
 #include "nlosloc/situation/markov.hpp"
@@ -369,11 +370,7 @@ class ParticleFilter {
     NLOSLOC_ENSURE(s.situations.minCoeff() >= 0 && s.situations.maxCoeff() < nz_,
                    "snapshot.situations: expected condition indices 0 to " + std::to_string(nz_ - 1));
     nd::ensure_shape(s.log_weights, M_, 1, "snapshot.log_weights");
-    NLOSLOC_ENSURE(are_log_weights(s.log_weights), "snapshot.log_weights: expected finite values or -inf");
-    const double total = log_sum_exp(s.log_weights);
-    NLOSLOC_ENSURE(std::abs(total) <= 1e-9,
-                   "snapshot.log_weights: expected normalised log weights (log-sum-exp 0), got log-sum-exp " +
-                       std::to_string(total));
+    detail::check_snapshot_log_weights(s.log_weights);
     situation::check_probabilities(s.situation_probabilities, B_, nz_, "snapshot.situation_probabilities");
     nd::ensure_shape(s.estimate, N, 1, "snapshot.estimate");
     nd::ensure_finite(s.estimate, "snapshot.estimate");
@@ -399,8 +396,7 @@ class ParticleFilter {
               "'s words are no generator state (an all-zero state, or a flag or buffer position out "
               "of range)");
     }
-    NLOSLOC_ENSURE(std::isfinite(s.time), "snapshot.time: expected a finite time (s)");
-    NLOSLOC_ENSURE(s.step >= 0, "snapshot.step: expected >= 0, got " + std::to_string(s.step));
+    detail::check_snapshot_clock(s.time, s.step);
     for (int d = 0; d < N; ++d)
       for (int i = 0; i < M_; ++i) x_[idx(d, i)] = s.particles(d, i);
     for (int b = 0; b < B_; ++b)

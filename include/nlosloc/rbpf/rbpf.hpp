@@ -36,6 +36,7 @@
 #include "nlosloc/rbpf/merge.hpp"
 #include "nlosloc/rbpf/offspring.hpp"
 #include "nlosloc/rbpf/phase_profile.hpp"
+#include "nlosloc/rbpf/snapshot_check.hpp"
 #include "nlosloc/rbpf/thread_pool.hpp"
 #include "nlosloc/rbpf/ukf_kernel.hpp"
 #include "nlosloc/situation/markov.hpp"
@@ -304,11 +305,7 @@ class Rbpf {
       NLOSLOC_ENSURE(is_spd(s.covs[i]), name + ": expected a symmetric positive definite matrix");
     }
     ::nlosloc::detail::ensure_shape(s.log_weights, P, 1, "snapshot.log_weights");
-    NLOSLOC_ENSURE(are_log_weights(s.log_weights), "snapshot.log_weights: expected finite values or -inf");
-    const double total = log_sum_exp(s.log_weights);
-    NLOSLOC_ENSURE(std::abs(total) <= 1e-9,
-                   "snapshot.log_weights: expected normalised log weights (log-sum-exp 0), got log-sum-exp " +
-                       std::to_string(total));
+    detail::check_snapshot_log_weights(s.log_weights);
     ::nlosloc::detail::ensure_shape(s.situation_probabilities, B_, nz_, "snapshot.situation_probabilities");
     const auto& pr = s.situation_probabilities.array();
     // 1e-9 of slack: the filter's own sums of weights may exceed 1 by rounding (1 + 2e-15 seen on H2)
@@ -321,8 +318,7 @@ class Rbpf {
     ::nlosloc::detail::ensure_shape(s.covariance, N, N, "snapshot.covariance");
     NLOSLOC_ENSURE(is_spd(s.covariance),
                    "snapshot.covariance: expected a symmetric positive definite matrix");
-    NLOSLOC_ENSURE(std::isfinite(s.time), "snapshot.time: expected a finite time (s)");
-    NLOSLOC_ENSURE(s.step >= 0, "snapshot.step: expected >= 0, got " + std::to_string(s.step));
+    detail::check_snapshot_clock(s.time, s.step);
     count_ = static_cast<int>(P);
     for (int i = 0; i < count_; ++i) {
       const auto u = static_cast<std::size_t>(i);
