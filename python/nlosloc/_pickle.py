@@ -89,19 +89,10 @@ for _cls in _SCENARIOS:
     copyreg.pickle(_cls, _reduce_scenario)
 
 
-def _make_scheme(kind: Any, alpha: float, beta: float, kappa: float) -> Any:
-    k = _core.SigmaScheme.Kind
-    if kind == k.Scaled:
-        return _core.SigmaScheme.scaled(alpha, beta, kappa)
-    if kind == k.Julier:
-        return _core.SigmaScheme.julier(kappa)
-    if kind == k.Cubature:
-        return _core.SigmaScheme.cubature()
-    return _core.SigmaScheme.huerta(alpha)
-
-
 def _reduce_scheme(s: Any) -> tuple[Any, ...]:
-    return _make_scheme, (s.kind, s.alpha, s.beta, s.kappa)
+    # The constructor takes the four fields as they are: a factory would reset the ones its kind
+    # fixes (huerta's beta), which a scheme built from its fields may set otherwise.
+    return type(s), (s.kind, s.alpha, s.beta, s.kappa)
 
 
 def _reduce_row_noise(r: Any) -> tuple[Any, ...]:

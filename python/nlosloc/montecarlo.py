@@ -85,7 +85,8 @@ def run(
     dict
         As :func:`nlosloc.sim.run_monte_carlo`: ``estimators`` maps each name to ``errors``
         (runs x T, m) and ``time_per_step_ns`` (runs); plus ``discard``, ``dt``, ``runs``,
-        ``first_run``, ``steps``, ``seed``, ``threads``, ``wall_seconds``, ``scenario``, ``case``.
+        ``first_run``, ``steps``, ``seed``, ``threads``, ``wall_seconds``, ``scenario``, ``case``,
+        ``case_index``.
         With ``executor``, ``wall_seconds`` is the whole call's and ``threads`` the largest of the
         chunks'.
     """
@@ -239,6 +240,8 @@ def merge(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
     ordered = sorted(results, key=lambda r: int(r.get("first_run", 0)))
     first = ordered[0]
     keys = ("scenario", "case", "seed", "steps", "discard", "dt")
+    if all("case_index" in r for r in ordered):  # absent from results saved before it was added
+        keys += ("case_index",)
     names = list(first["estimators"])
     end = int(first.get("first_run", 0))
     for r in ordered:

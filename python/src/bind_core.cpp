@@ -114,12 +114,15 @@ void define_module(py::module_& m) {
       .def(
           "__call__", [](Rng& r) { return r(); }, "Next raw 64-bit output.");
   state_methods<Rng>(rng);
+  rng.attr("STATE_WORDS") = Rng::kStateWords;
 
   py::class_<BatchRng> batch(
       m, "BatchRng",
       "Bulk generator of the particle filter: 4 xoshiro256++ lanes in lockstep, lane l "
       "being the parent Rng jumped l + 1 times (the parent is not advanced).");
-  batch.def(py::init<Rng>(), py::arg("parent"), "Lanes derived from `parent` by jumps.")
+  batch
+      .def(py::init<Rng>(), py::arg_v("parent", Rng(), "Rng()"),
+           "Lanes derived from `parent` by jumps (default Rng(): seed 0, stream 0, as C++ BatchRng()).")
       .def(
           "bits",
           [](BatchRng& r, py::ssize_t n_quads) {
@@ -157,6 +160,9 @@ void define_module(py::module_& m) {
       .def(
           "__call__", [](BatchRng& r) { return r.next(); }, "Next raw 64-bit word.");
   state_methods<BatchRng>(batch);
+  batch.attr("STATE_WORDS") = BatchRng::kStateWords;
+  batch.attr("LANES") = BatchRng::kLanes;
+  batch.attr("BUFFER") = BatchRng::kBuffer;
 
   py::class_<SigmaWeights>(m, "SigmaWeights", "Weights of a 2n+1 sigma-point set.")
       .def_readonly("gamma", &SigmaWeights::gamma, "Spread: points are mean +- gamma * L[:, i].")
@@ -174,9 +180,16 @@ void define_module(py::module_& m) {
       .value("Julier", SigmaScheme::Kind::kJulier)
       .value("Cubature", SigmaScheme::Kind::kCubature)
       .value("Huerta", SigmaScheme::Kind::kHuerta);
-  sch.def_static("scaled", &SigmaScheme::scaled, py::arg("alpha") = 1e-3, py::arg("beta") = 2.0,
-                 py::arg("kappa") = 0.0,
-                 "Scaled UT of Wan and van der Merwe (FilterPy's MerweScaledSigmaPoints); alpha in (0, 1].")
+  sch.def(py::init([](SigmaScheme::Kind kind, double alpha, double beta, double kappa) {
+            return SigmaScheme{kind, alpha, beta, kappa};
+          }),
+          py::arg_v("kind", SigmaScheme::Kind::kScaled, "SigmaScheme.Kind.Scaled"), py::arg("alpha") = 1.0,
+          py::arg("beta") = 2.0, py::arg("kappa") = 0.0,
+          "A scheme from its four fields, as the C++ aggregate (checked when weights() or validate() are "
+          "called; the factories below give each kind's usual parameters).")
+      .def_static("scaled", &SigmaScheme::scaled, py::arg("alpha") = 1e-3, py::arg("beta") = 2.0,
+                  py::arg("kappa") = 0.0,
+                  "Scaled UT of Wan and van der Merwe (FilterPy's MerweScaledSigmaPoints); alpha in (0, 1].")
       .def_static("julier", &SigmaScheme::julier, py::arg("kappa") = 0.0, "Julier and Uhlmann's UT.")
       .def_static("cubature", &SigmaScheme::cubature, "Spherical-radial cubature rule (2n points).")
       .def_static("huerta", &SigmaScheme::huerta, py::arg("alpha") = 1.0,
@@ -185,7 +198,13 @@ void define_module(py::module_& m) {
       .def_readonly("alpha", &SigmaScheme::alpha)
       .def_readonly("beta", &SigmaScheme::beta)
       .def_readonly("kappa", &SigmaScheme::kappa)
+      .def("validate", &SigmaScheme::validate, py::arg("n"),
+           "Raises ValueError (naming the parameter) unless the scheme gives valid weights for dimension n.")
       .def("weights", &SigmaScheme::weights, py::arg("n"), "Weights for an n-dimensional variable.")
+      .def("__eq__",
+           [](const SigmaScheme& a, const SigmaScheme& b) {
+             return a.kind == b.kind && a.alpha == b.alpha && a.beta == b.beta && a.kappa == b.kappa;
+           })
       .def("__repr__", [](const SigmaScheme& s) {
         return std::string("SigmaScheme(kind=") + to_string(s.kind) + ", alpha=" + std::to_string(s.alpha) +
                ", beta=" + std::to_string(s.beta) + ", kappa=" + std::to_string(s.kappa) + ")";
@@ -254,6 +273,15 @@ void define_module(py::module_& m) {
       py::arg("rel_tol") = 1e-9,
       "True when A is square, finite, symmetric to rel_tol (relative to its largest entry) and positive "
       "definite: the check set_belief applies to a covariance.");
+  m.def(
+      "is_spsd", [](const MatX& A, double rel_tol) { return is_spsd(A, rel_tol); }, py::arg("A"),
+      py::arg("rel_tol") = 1e-9,
+      "True when A is square, finite, symmetric to rel_tol (relative to its largest entry) and positive "
+      "semi-definite (LDLT pivots >= -rel_tol max|A|): the check a particle set's covariance passes.");
+  m.def(
+      "are_log_weights", [](const VecX& v) { return are_log_weights(v); }, py::arg("v"),
+      "True when every entry is a valid log weight: finite or -inf (a ruled-out particle), never NaN or "
+      "+inf.");
   m.attr("SPEED_OF_LIGHT") = kSpeedOfLight;
 }
 }  // namespace nlosloc::bind_core_cpp

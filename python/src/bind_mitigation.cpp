@@ -292,7 +292,12 @@ void define_module(pybind11::module_& m) {
       .def_readwrite("sigma0", &RangeNoise::sigma0)
       .def_readwrite("relative", &RangeNoise::relative)
       .def_readwrite("min_std", &RangeNoise::min_std)
-      .def("std_at", &RangeNoise::std_at, py::arg("d"), "Noise std at distance d (m).");
+      .def("std_at", &RangeNoise::std_at, py::arg("d"), "Noise std at distance d (m).")
+      .def(
+          "validate", [](const RangeNoise& n, const std::string& name) { n.validate(name.c_str()); },
+          py::arg("name") = "noise",
+          "Raises ValueError naming the field (as `name`.field) unless sigma0, relative >= 0 and "
+          "min_std > 0, all finite.");
 
   py::class_<ReferencePoint>(m, "ReferencePoint", "Reference point X0 of Sec. 3.")
       .def_property_readonly("point", [](const ReferencePoint& r) { return VecX(r.point); })
@@ -390,7 +395,10 @@ void define_module(pybind11::module_& m) {
                      "Leave rows whose b^_i is strictly inside its box out of the update (default True).")
       .def_readwrite("soft_threshold", &QpBiasEkfOptions::soft_threshold,
                      "PREDICTION only: lambda of an L1 term on eq. (14) keeping rows within about lambda "
-                     "standard deviations as LOS (0 = eq. 14 as written; not in the paper).");
+                     "standard deviations as LOS (0 = eq. 14 as written; not in the paper).")
+      .def("validate", &QpBiasEkfOptions::validate,
+           "Raises ValueError naming the field (options.gamma, options.noise.*, options.soft_threshold) "
+           "that QpBiasEkf would refuse; the fields are not checked when set.");
 
   py::class_<MitigationStep>(m, "MitigationStep", "What one QpBiasEkf update reports.")
       .def_readonly("filter", &MitigationStep::filter, "StepResult (log-likelihood, rows used, status).")
@@ -497,7 +505,10 @@ void define_module(pybind11::module_& m) {
       .def_readwrite("bias_prior_std", &BiasAugmentedEkfOptions::bias_prior_std)
       .def_readwrite("bias_walk_std", &BiasAugmentedEkfOptions::bias_walk_std)
       .def_readwrite("iterations", &BiasAugmentedEkfOptions::iterations)
-      .def_readwrite("nonnegative", &BiasAugmentedEkfOptions::nonnegative);
+      .def_readwrite("nonnegative", &BiasAugmentedEkfOptions::nonnegative)
+      .def("validate", &BiasAugmentedEkfOptions::validate,
+           "Raises ValueError naming the field that BiasAugmentedEkf would refuse; the fields are not "
+           "checked when set.");
 
   py::class_<BiasAugmentedEkf>(m, "BiasAugmentedEkf",
                                "Iterated NLOS EKF (Najar & Vidal 2003, Ke & Wu Sec. 1): state [x, y, vx, vy, "

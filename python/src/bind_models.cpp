@@ -102,7 +102,9 @@ void define_module(py::module_& m) {
       .def_readonly("input", &MeasurementRow::input)
       .def_readonly("inputs", &MeasurementRow::inputs)
       .def_readonly("sector_center", &MeasurementRow::sector_center)
-      .def_readonly("slot", &MeasurementRow::slot);
+      .def_readonly("slot", &MeasurementRow::slot)
+      .def_readonly("linear", &MeasurementRow::linear,
+                    "Linear rows: index of the row's coefficients among the stack's linear rows; else -1.");
 
   py::class_<MeasurementStack::TwrParams>(m, "TwrParams", "Parameters of a two-way-ranging pair (add_twr).")
       .def_readonly("delta_slot", &MeasurementStack::TwrParams::delta_slot, "Delta (s).")

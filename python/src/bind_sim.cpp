@@ -137,6 +137,7 @@ py::dict run_monte_carlo(const std::shared_ptr<sim::Scenario>& s, const std::str
   py::dict r;
   r["scenario"] = res.scenario;
   r["case"] = res.case_name;
+  r["case_index"] = res.case_index;
   r["runs"] = res.runs;
   r["first_run"] = res.first_run;
   r["steps"] = res.steps;
@@ -301,6 +302,32 @@ list of str
     Scenario names in registration order, e.g. ``["K1"]``.
 )doc");
 
+  m.def(
+      "scenario",
+      [](const std::string& name) {
+        // Scenarios have no mutators, so handing out the registered object is safe.
+        return std::const_pointer_cast<sim::Scenario>(sim::registry().scenario_ptr(name));
+      },
+      py::arg("name"),
+      R"doc(The registered scenario object (C++ ``registry().scenario_ptr(name)``).
+
+Parameters
+----------
+name : str
+    Scenario name (see :func:`scenarios`).
+
+Returns
+-------
+Scenario
+    The object itself, of its own class (``H1``, ``H2``, ``K1``, ...): its geometry, measurement
+    stack, published numbers and ``draw``; ``run_monte_carlo(scenario, ...)`` takes it.
+
+Raises
+------
+ValueError
+    If the scenario is unknown.
+)doc");
+
   m.def("scenario_info", &scenario_info, py::arg("name"),
         R"doc(Description of a scenario.
 
@@ -346,7 +373,8 @@ Returns
 dict
     ``states`` (T x n), ``positions`` (T x D, m), ``y`` (T x m measurements, NaN = missing),
     ``sight`` (T x B int, 0 = LOS), ``quality`` (T x B, NaN when the scenario has none),
-    ``initial_mean`` (n), ``initial_cov`` (n x n), and ``scenario``, ``case``, ``seed``, ``run``, ``dt``.
+    ``initial_mean`` (n), ``initial_cov`` (n x n), and ``scenario``, ``case``, ``case_index`` (its
+    index in ``scenario_info(name)["cases"]``), ``seed``, ``run``, ``dt``.
 )doc");
 
   m.def(
@@ -417,8 +445,10 @@ Returns
 dict
     ``estimators``: dict name -> {``errors``: runs x T position error norms (m),
     ``time_per_step_ns``: runs, and for estimators that classify sight ``sight_accuracy``:
-    (runs, T) fraction of anchors classified correctly, ``sight_anchor_accuracy``: (runs, B)}; and ``scenario``, ``case``, ``runs``, ``first_run``, ``steps``, ``seed``,
-    ``discard``, ``dt`` (s), ``threads``, ``wall_seconds``.
+    (runs, T) fraction of anchors classified correctly, ``sight_anchor_accuracy``: (runs, B)};
+    and ``scenario``, ``case``, ``case_index`` (its index in ``scenario_info(name)["cases"]``),
+    ``runs``, ``first_run``, ``steps``, ``seed``, ``discard``, ``dt`` (s), ``threads``,
+    ``wall_seconds``.
 
 Raises
 ------

@@ -154,6 +154,10 @@ void define_module(py::module_& m) {
           py::arg("o"), "(B, N_z) table of log p(o_b | s_b = z).")
       .def(
           "sample",
+          [](const QualityModel& q, int z, Rng& rng) { return q.sample(z, rng); },  // z checked there
+          py::arg("z"), py::arg("rng"), "One statistic drawn under condition z (simulation).")
+      .def(
+          "sample",
           [](const QualityModel& q, const py::object& s, Rng& rng) {
             return q.sample(bind::to_sight(s, "s"), rng);
           },

@@ -196,6 +196,13 @@ void define_module(py::module_& m) {
           py::arg("y"), py::arg("theta0"), py::arg("use") = py::none(), py::arg("noise") = py::none(),
           "Fix from the rows flagged in `use` (default all) with per-row RowNoise `noise` (default LOS).")
       .def(
+          "solve_los",
+          [](const LosSolver& s, const VecX& y, const VecX& theta0) {
+            return s.solve_los(y, theta_in(theta0, s.unknowns(), "theta0"));
+          },
+          py::arg("y"), py::arg("theta0"),
+          "Fix from every row with the LOS Gaussian noise (MLE-LOS): solve(y, theta0) with the defaults.")
+      .def(
           "linear_start",
           [](const LosSolver& s, const VecX& y, const std::optional<std::vector<bool>>& use) -> py::object {
             Theta t;

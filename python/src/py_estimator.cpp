@@ -222,6 +222,7 @@ py::dict draw_to_dict(sim::Draw d) {
   py::dict r;
   r["scenario"] = d.scenario;
   r["case"] = d.case_name;
+  r["case_index"] = d.case_index;
   r["seed"] = d.seed;
   r["run"] = d.run;
   r["dt"] = d.dt;

@@ -1,6 +1,7 @@
 """Python forms of C++ core and RBPF helpers: Rng.reseed / normal(mu, sigma), the generators' saved
 states and pickling, log_normalize,
-gaussian_log_pdf_chol, is_spd, encode/decode_situation, Iukf.motion / dim."""
+gaussian_log_pdf_chol, is_spd / is_spsd, are_log_weights, SigmaScheme from its fields,
+encode/decode_situation, Iukf.motion / dim."""
 
 from __future__ import annotations
 
@@ -95,6 +96,56 @@ def test_is_spd() -> None:
     assert core.is_spd(np.array([[4.0, 1.0], [1.1, 3.0]]), rel_tol=0.1)
     assert not core.is_spd(np.ones((2, 3)))
     assert not core.is_spd(np.array([[np.nan, 0.0], [0.0, 1.0]]))
+
+
+def test_is_spsd_and_are_log_weights() -> None:
+    singular = np.array([[1.0, 1.0], [1.0, 1.0]])  # PSD, rank 1
+    assert core.is_spsd(singular) and not core.is_spd(singular)
+    assert core.is_spsd(np.array([[4.0, 1.0], [1.0, 3.0]]))
+    assert core.is_spsd(np.zeros((3, 3)))
+    assert not core.is_spsd(np.array([[1.0, 2.0], [2.0, 1.0]]))  # eigenvalue -1
+    assert not core.is_spsd(np.array([[1.0, 1.0], [1.1, 1.0]]))  # not symmetric
+    assert core.is_spsd(np.array([[1.0, 1.0], [1.05, 1.1]]), rel_tol=0.1)
+    assert not core.is_spsd(np.ones((2, 3)))
+    assert not core.is_spsd(np.array([[np.inf, 0.0], [0.0, 1.0]]))
+    assert core.are_log_weights(np.array([0.0, -np.inf, -3.5]))
+    assert core.are_log_weights(np.zeros(0))
+    assert not core.are_log_weights(np.array([0.0, np.nan]))
+    assert not core.are_log_weights(np.array([np.inf, 0.0]))
+
+
+def test_sigma_scheme_from_its_fields() -> None:
+    import pickle
+
+    k = core.SigmaScheme.Kind
+    assert core.SigmaScheme() == core.SigmaScheme.scaled(1.0, 2.0, 0.0)
+    assert core.SigmaScheme(k.Julier, kappa=1.5) != core.SigmaScheme.julier(1.5)  # beta 2 against 0
+    # Huerta eq. (52) with beta = 3 (the factory fixes 2), n = 2, alpha = 0.5: lambda = 0.25 * 2 - 2
+    # = -1.5, gamma = sqrt(0.5), Wm0 = -1.5 / 0.5 = -3, Wc0 = -3 + 1 - 0.25 + 3 = 0.75, Wi = 1.
+    s = core.SigmaScheme(k.Huerta, 0.5, 3.0)
+    w = s.weights(2)
+    assert (w.wm0, w.wc0, w.wi) == pytest.approx((-3.0, 0.75, 1.0), rel=1e-14)
+    assert w.gamma == pytest.approx(np.sqrt(0.5), rel=1e-14)
+    t = pickle.loads(pickle.dumps(s))
+    assert t == s and t.weights(2).wc0 == w.wc0  # pickled from its fields, beta kept
+    s.validate(2)
+    bad = core.SigmaScheme(k.Scaled, alpha=1.5)  # built as the C++ aggregate: checked when used
+    with pytest.raises(ValueError, match=r"alpha: expected a value in \(0, 1\], got 1.5"):
+        bad.validate(2)
+    with pytest.raises(ValueError, match=r"alpha: expected a value in \(0, 1\], got 1.5"):
+        bad.weights(2)
+    with pytest.raises(ValueError, match="kappa: expected n \\+ kappa > 0"):
+        core.SigmaScheme(k.Julier, kappa=-3.0).validate(2)
+    with pytest.raises(ValueError, match="dimension n must be > 0"):
+        core.SigmaScheme.cubature().validate(0)
+
+
+def test_generator_constants_and_default_batch() -> None:
+    assert core.Rng.STATE_WORDS == len(core.Rng(3).save_state()) == 6
+    assert core.BatchRng.LANES == 4 and core.BatchRng.BUFFER == 64
+    assert core.BatchRng.STATE_WORDS == 4 * 4 + 64 + 1 == len(core.BatchRng().save_state())
+    # BatchRng() is BatchRng(Rng()), as in C++
+    np.testing.assert_array_equal(core.BatchRng().bits(8), core.BatchRng(core.Rng(0, 0)).bits(8))
 
 
 def test_situation_keys() -> None:

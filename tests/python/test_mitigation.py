@@ -127,6 +127,35 @@ def test_bias_from_innovation_hand_computed() -> None:
     assert opt.reference == mitigation.BiasReference.Prediction and opt.drop_free_rows
 
 
+def test_options_validate_names_the_field_the_tracker_refuses() -> None:
+    n = mitigation.RangeNoise(2.0, 0.01)
+    n.validate()
+    n.min_std = 0.0  # fields are not checked when set
+    with pytest.raises(ValueError, match=r"^noise\.min_std: expected a finite value > 0, got 0"):
+        n.validate()
+    with pytest.raises(ValueError, match=r"^R\.min_std: expected a finite value > 0"):
+        n.validate("R")
+    q = mitigation.QpBiasEkfOptions()
+    q.validate()
+    q.gamma = 0.5
+    with pytest.raises(ValueError, match=r"^options\.gamma: expected a finite value >= 1"):
+        q.validate()
+    with pytest.raises(ValueError, match=r"^options\.gamma: expected a finite value >= 1"):
+        mitigation.QpBiasEkf(motion(), ANCHORS, np.zeros(4), np.eye(4), q)
+    q.gamma = 2.0
+    q.noise.relative = -1.0
+    with pytest.raises(ValueError, match=r"^options\.noise\.relative: expected a finite value"):
+        q.validate()
+    b = mitigation.BiasAugmentedEkfOptions()
+    b.validate()
+    b.iterations = 0
+    with pytest.raises(ValueError, match=r"^options\.iterations: expected 1\.\.100, got 0"):
+        b.validate()
+    b.iterations, b.bias_prior_std = 3, float("nan")
+    with pytest.raises(ValueError, match=r"^options\.bias_prior_std: expected a finite value > 0"):
+        b.validate()
+
+
 def test_soft_threshold_hand_computed() -> None:
     # D = diag(1, 4, 9), lambda = 2: b = clip(r - 2 sqrt(D_ii), 0, b^U) (the C++ test's case).
     est = mitigation.BiasEstimator(ANCHORS)

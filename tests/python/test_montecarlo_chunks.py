@@ -121,6 +121,12 @@ def test_merge_joins_consecutive_chunks_in_any_order(full: dict) -> None:
     merged = montecarlo.merge([chunks[2], chunks[0], chunks[1]])
     assert_same_runs(merged, full)
     assert merged["wall_seconds"] == pytest.approx(sum(c["wall_seconds"] for c in chunks))
+    case_index = sim.scenario_info("K1")["cases"].index(CASE)
+    assert merged["case_index"] == full["case_index"] == case_index
+    # results saved before case_index existed still merge (and the merge leaves it out)
+    older = [{k: v for k, v in c.items() if k != "case_index"} for c in chunks]
+    assert "case_index" not in montecarlo.merge(older)
+    assert_same_runs(montecarlo.merge(older), full)
     with pytest.raises(ValueError, match="expected at least one result"):
         montecarlo.merge([])
     with pytest.raises(ValueError, match="runs from 3 follow runs ending at 1"):

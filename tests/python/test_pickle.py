@@ -21,7 +21,8 @@ def same_stack(a: models.MeasurementStack, b: models.MeasurementStack, x: np.nda
     np.testing.assert_array_equal(b.anchors, a.anchors)
     for i in range(a.rows):
         ra, rb = a.row(i), b.row(i)
-        for f in ["kind", "anchor", "anchor2", "input", "inputs", "sector_center", "slot"]:
+        fields = ["kind", "anchor", "anchor2", "input", "inputs", "sector_center", "slot", "linear"]
+        for f in fields:
             assert getattr(rb, f) == getattr(ra, f), (i, f)
     np.testing.assert_array_equal(b.predict(x, 0.3), a.predict(x, 0.3))
     np.testing.assert_array_equal(b.jacobian(x, 0.3), a.jacobian(x, 0.3))
@@ -47,6 +48,7 @@ def test_a_stack_with_every_row_kind_pickles() -> None:
     m.add_linear(np.array([0.0, 0.0, 1.0, 0.5, 0.0, 0.0]), -1, [noise.Normal(0, 1.0)] * 2)
     x = np.array([30.0, 40.0, 5.0, 1.0, -2.0, 0.1])
     same_stack(m, roundtrip(m), x)
+    assert [m.row(i).linear for i in range(m.rows)] == [-1] * (m.rows - 1) + [0]
     assert roundtrip(m).noise_b(4, 1).mean() == emp.mean()
     # two-way ranging (Grisales eqs. 17-20) on the TwoWayClock state
     t = models.MeasurementStack(models.TwoWayClock.layout(), anchors, 3)

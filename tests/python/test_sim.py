@@ -27,6 +27,19 @@ def test_registry_and_info() -> None:
         sim.scenario_info("K9")
 
 
+def test_the_registered_scenario_object() -> None:
+    for name in sim.scenarios():
+        s = sim.scenario(name)
+        assert type(s).__name__ == name and s.name == name  # its own class, not the base
+        info = sim.scenario_info(name)
+        assert s.cases == info["cases"] and s.steps == info["steps"]
+    k1 = sim.scenario("K1")
+    by_name = sim.draw("K1", CASE, seed=3, run=2, steps=20)
+    np.testing.assert_array_equal(k1.draw(CASE, seed=3, run=2, steps=20)["y"], by_name["y"])
+    with pytest.raises(ValueError, match="K1"):
+        sim.scenario("K9")
+
+
 def test_draw_reproducible() -> None:
     a = sim.draw("K1", CASE, seed=3, run=2)
     b = sim.draw("K1", CASE, seed=3, run=2)
@@ -45,12 +58,16 @@ def test_draw_reproducible() -> None:
     np.testing.assert_array_equal(short["y"], a["y"][:50])
     with pytest.raises(ValueError, match="3LOS/0NLOS"):
         sim.draw("K1", "nope", seed=1, run=0)
+    cases = sim.scenario_info("K1")["cases"]
+    assert cases[a["case_index"]] == a["case"] == CASE and a["case_index"] != 0
+    assert sim.draw("K1", cases[0], seed=3, run=2, steps=5)["case_index"] == 0
 
 
 def test_run_monte_carlo_shapes_and_threads() -> None:
     r1 = sim.run_monte_carlo("K1", CASE, runs=4, seed=1, threads=1, steps=300)
     r2 = sim.run_monte_carlo("K1", CASE, runs=4, seed=1, threads=2, steps=300, estimators=["EKF"])
     assert r1["discard"] == 100 and r1["dt"] == pytest.approx(0.1) and r1["steps"] == 300
+    assert r1["case"] == CASE and sim.scenario_info("K1")["cases"][r1["case_index"]] == CASE
     e = r1["estimators"]["EKF"]
     assert e["errors"].shape == (4, 300)
     assert e["time_per_step_ns"].shape == (4,)

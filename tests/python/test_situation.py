@@ -147,6 +147,20 @@ def test_forward_filter_rejected_calls_change_nothing():
     np.testing.assert_array_equal(f.probabilities, [[0.0, 1.0], [0.0, 1.0]])
 
 
+def test_quality_model_sample_one_condition():
+    qm = situation.QualityModel([noise.Normal(1.0, 0.5), noise.Beta(1.5, 4.0)])
+    for z in (0, 1):
+        assert qm.sample(z, core.Rng(5, 2)) == qm.distribution(z).sample(core.Rng(5, 2))
+    # the vector form draws anchor by anchor from one generator
+    r, r2 = core.Rng(8), core.Rng(8)
+    o = qm.sample(np.array([1, 0, 1]), r)
+    np.testing.assert_array_equal(o, [qm.sample(1, r2), qm.sample(0, r2), qm.sample(1, r2)])
+    with pytest.raises(ValueError, match=r"^z: expected a condition in \[0, N_z\), got 2"):
+        qm.sample(2, core.Rng())
+    with pytest.raises(ValueError, match=r"^z: expected a condition in \[0, N_z\), got -1"):
+        qm.sample(-1, core.Rng())
+
+
 def test_quality_model_vector_forms():
     qm = situation.QualityModel([noise.Normal(1.0, 0.5), noise.Normal(0.0, 0.5)])
     l0 = -0.5 * 0.04 / 0.25 - math.log(0.5 * math.sqrt(2 * math.pi))

@@ -36,6 +36,21 @@ def test_los_solver_exact_rtoa():
     assert f3.rows == 3 and f3.cost < 1e-9
 
 
+def test_los_solver_solve_los_is_solve_with_the_defaults():
+    s = snapshot.LosSolver(rtoa_stack())
+    rng = np.random.default_rng(4)
+    y = rtoa(np.array([40.0, -25.0]), 3.0, 0.0, 2.0, rng)
+    y[2] = np.nan  # a missing row is skipped by both
+    t0 = np.array([0.0, 0.0, 0.0])
+    a, b = s.solve_los(y, t0), s.solve(y, t0)
+    np.testing.assert_array_equal(a.theta, b.theta)
+    fields = ("cost", "rows", "iterations", "converged")
+    assert [getattr(a, f) for f in fields] == [getattr(b, f) for f in fields]
+    assert a.rows == 5 and a.converged
+    with pytest.raises(ValueError, match="theta0"):
+        s.solve_los(y, np.zeros(2))
+
+
 def test_mle_los_polar_inversion():
     st = models.MeasurementStack(models.ConstantVelocity2.layout(), np.zeros((1, 2)), 2)
     st.add_toa(0, [noise.Normal(0.0, 3.0), noise.Rayleigh.from_variance(2000.0)])

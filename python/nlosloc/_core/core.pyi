@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BatchRng', 'CholeskyStatus', 'NumericalError', 'Rng', 'SPEED_OF_LIGHT', 'SigmaScheme', 'SigmaWeights', 'gaussian_log_pdf_chol', 'is_spd', 'log_normalize', 'log_sum_exp', 'robust_cholesky', 'sigma_points', 'wrap_angle']
+__all__: list[str] = ['BatchRng', 'CholeskyStatus', 'NumericalError', 'Rng', 'SPEED_OF_LIGHT', 'SigmaScheme', 'SigmaWeights', 'are_log_weights', 'gaussian_log_pdf_chol', 'is_spd', 'is_spsd', 'log_normalize', 'log_sum_exp', 'robust_cholesky', 'sigma_points', 'wrap_angle']
 class NumericalError(RuntimeError):
     """
     Raised when a step cannot be completed numerically (a covariance that is not positive definite even with the Cholesky fallback). The filter keeps the belief it had before the call.
@@ -15,6 +15,7 @@ class Rng:
     """
     Seeded xoshiro256++ generator; every random draw of nlosloc goes through one.
     """
+    STATE_WORDS: typing.ClassVar[int] = 6
     def __call__(self) -> int:
         """
         Next raw 64-bit output.
@@ -73,15 +74,18 @@ class BatchRng:
     """
     Bulk generator of the particle filter: 4 xoshiro256++ lanes in lockstep, lane l being the parent Rng jumped l + 1 times (the parent is not advanced).
     """
+    BUFFER: typing.ClassVar[int] = 64
+    LANES: typing.ClassVar[int] = 4
+    STATE_WORDS: typing.ClassVar[int] = 81
     def __call__(self) -> int:
         """
         Next raw 64-bit word.
         """
     def __getstate__(self) -> tuple[list[int]]:
         ...
-    def __init__(self, parent: Rng) -> None:
+    def __init__(self, parent: Rng = ...) -> None:
         """
-        Lanes derived from `parent` by jumps.
+        Lanes derived from `parent` by jumps (default Rng(): seed 0, stream 0, as C++ BatchRng()).
         """
     def __setstate__(self, arg0: tuple) -> None:
         ...
@@ -190,6 +194,7 @@ class SigmaScheme:
         @property
         def value(self) -> int:
             ...
+    __hash__: typing.ClassVar[None] = None
     @staticmethod
     def cubature() -> SigmaScheme:
         """
@@ -210,8 +215,18 @@ class SigmaScheme:
         """
         Scaled UT of Wan and van der Merwe (FilterPy's MerweScaledSigmaPoints); alpha in (0, 1].
         """
+    def __eq__(self, arg0: SigmaScheme) -> bool:
+        ...
+    def __init__(self, kind: SigmaScheme.Kind = ..., alpha: typing.SupportsFloat | typing.SupportsIndex = 1.0, beta: typing.SupportsFloat | typing.SupportsIndex = 2.0, kappa: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        """
+        A scheme from its four fields, as the C++ aggregate (checked when weights() or validate() are called; the factories below give each kind's usual parameters).
+        """
     def __repr__(self) -> str:
         ...
+    def validate(self, n: typing.SupportsInt | typing.SupportsIndex) -> None:
+        """
+        Raises ValueError (naming the parameter) unless the scheme gives valid weights for dimension n.
+        """
     def weights(self, n: typing.SupportsInt | typing.SupportsIndex) -> SigmaWeights:
         """
         Weights for an n-dimensional variable.
@@ -278,6 +293,10 @@ class CholeskyStatus:
     @property
     def value(self) -> int:
         ...
+def are_log_weights(v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> bool:
+    """
+    True when every entry is a valid log weight: finite or -inf (a ruled-out particle), never NaN or +inf.
+    """
 def gaussian_log_pdf_chol(L: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> float:
     """
     log N(x; 0, S) from the lower Cholesky factor L of S (m, m) and x (m,).
@@ -285,6 +304,10 @@ def gaussian_log_pdf_chol(L: typing.Annotated[numpy.typing.ArrayLike, numpy.floa
 def is_spd(A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], rel_tol: typing.SupportsFloat | typing.SupportsIndex = 1e-09) -> bool:
     """
     True when A is square, finite, symmetric to rel_tol (relative to its largest entry) and positive definite: the check set_belief applies to a covariance.
+    """
+def is_spsd(A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], rel_tol: typing.SupportsFloat | typing.SupportsIndex = 1e-09) -> bool:
+    """
+    True when A is square, finite, symmetric to rel_tol (relative to its largest entry) and positive semi-definite (LDLT pivots >= -rel_tol max|A|): the check a particle set's covariance passes.
     """
 def log_normalize(v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], float]:
     """

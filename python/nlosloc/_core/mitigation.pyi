@@ -281,6 +281,10 @@ class RangeNoise:
         """
         Noise std at distance d (m).
         """
+    def validate(self, name: str = 'noise') -> None:
+        """
+        Raises ValueError naming the field (as `name`.field) unless sigma0, relative >= 0 and min_std > 0, all finite.
+        """
     @property
     def min_std(self) -> float:
         ...
@@ -447,6 +451,10 @@ class QpBiasEkfOptions:
     """
     def __init__(self) -> None:
         ...
+    def validate(self) -> None:
+        """
+        Raises ValueError naming the field (options.gamma, options.noise.*, options.soft_threshold) that QpBiasEkf would refuse; the fields are not checked when set.
+        """
     @property
     def always_estimate(self) -> bool:
         """
@@ -641,6 +649,10 @@ class BiasAugmentedEkfOptions:
     nonnegative: bool
     def __init__(self) -> None:
         ...
+    def validate(self) -> None:
+        """
+        Raises ValueError naming the field that BiasAugmentedEkf would refuse; the fields are not checked when set.
+        """
     @property
     def bias_prior_mean(self) -> float:
         ...

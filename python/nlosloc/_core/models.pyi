@@ -372,6 +372,11 @@ class MeasurementRow:
     def kind(self) -> RowKind:
         ...
     @property
+    def linear(self) -> int:
+        """
+        Linear rows: index of the row's coefficients among the stack's linear rows; else -1.
+        """
+    @property
     def sector_center(self) -> float:
         ...
     @property

@@ -9,7 +9,7 @@ import nlosloc._core.situation
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['CaseSummary', 'CustomScenario', 'EstimatorSummary', 'H1', 'H1Params', 'H2', 'H2Params', 'K1', 'K1Params', 'K2', 'K2EstimatorStudy', 'K2Params', 'K2Study', 'K3', 'K3Params', 'Scenario', 'backdate', 'default_levels', 'draw', 'ecdf', 'estimator_seed', 'format_choices', 'format_k2_study', 'format_k3_probability', 'format_percentile_table', 'format_table', 'percentile', 'percentiles', 'probability_within', 'rmse_over_time', 'run_k2_study', 'run_monte_carlo', 'scenario_info', 'scenarios', 'summarize']
+__all__: list[str] = ['CaseSummary', 'CustomScenario', 'EstimatorSummary', 'H1', 'H1Params', 'H2', 'H2Params', 'K1', 'K1Params', 'K2', 'K2EstimatorStudy', 'K2Params', 'K2Study', 'K3', 'K3Params', 'Scenario', 'backdate', 'default_levels', 'draw', 'ecdf', 'estimator_seed', 'format_choices', 'format_k2_study', 'format_k3_probability', 'format_percentile_table', 'format_table', 'percentile', 'percentiles', 'probability_within', 'rmse_over_time', 'run_k2_study', 'run_monte_carlo', 'scenario', 'scenario_info', 'scenarios', 'summarize']
 class Scenario:
     """
     A simulation scenario: geometry, measurement stack and a draw() of truth + data.
@@ -1073,7 +1073,8 @@ def draw(name: str, case: str, seed: int, run: int, steps: typing.SupportsInt | 
     dict
         ``states`` (T x n), ``positions`` (T x D, m), ``y`` (T x m measurements, NaN = missing),
         ``sight`` (T x B int, 0 = LOS), ``quality`` (T x B, NaN when the scenario has none),
-        ``initial_mean`` (n), ``initial_cov`` (n x n), and ``scenario``, ``case``, ``seed``, ``run``, ``dt``.
+        ``initial_mean`` (n), ``initial_cov`` (n x n), and ``scenario``, ``case``, ``case_index`` (its
+        index in ``scenario_info(name)["cases"]``), ``seed``, ``run``, ``dt``.
     """
 def ecdf(values: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], max_points: typing.SupportsInt | typing.SupportsIndex = 0) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """
@@ -1289,8 +1290,10 @@ def run_monte_carlo(name: str, case: str, runs: typing.SupportsInt | typing.Supp
     dict
         ``estimators``: dict name -> {``errors``: runs x T position error norms (m),
         ``time_per_step_ns``: runs, and for estimators that classify sight ``sight_accuracy``:
-        (runs, T) fraction of anchors classified correctly, ``sight_anchor_accuracy``: (runs, B)}; and ``scenario``, ``case``, ``runs``, ``first_run``, ``steps``, ``seed``,
-        ``discard``, ``dt`` (s), ``threads``, ``wall_seconds``.
+        (runs, T) fraction of anchors classified correctly, ``sight_anchor_accuracy``: (runs, B)};
+        and ``scenario``, ``case``, ``case_index`` (its index in ``scenario_info(name)["cases"]``),
+        ``runs``, ``first_run``, ``steps``, ``seed``, ``discard``, ``dt`` (s), ``threads``,
+        ``wall_seconds``.
     
     Raises
     ------
@@ -1328,6 +1331,26 @@ def run_monte_carlo(scenario: Scenario, case: str, runs: typing.SupportsInt | ty
     ------
     ValueError, TypeError
         As in the overload taking a name.
+    """
+def scenario(name: str) -> Scenario:
+    """
+    The registered scenario object (C++ ``registry().scenario_ptr(name)``).
+    
+    Parameters
+    ----------
+    name : str
+        Scenario name (see :func:`scenarios`).
+    
+    Returns
+    -------
+    Scenario
+        The object itself, of its own class (``H1``, ``H2``, ``K1``, ...): its geometry, measurement
+        stack, published numbers and ``draw``; ``run_monte_carlo(scenario, ...)`` takes it.
+    
+    Raises
+    ------
+    ValueError
+        If the scenario is unknown.
     """
 def scenario_info(name: str) -> dict:
     """

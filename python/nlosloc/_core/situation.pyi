@@ -177,6 +177,12 @@ class QualityModel:
         """
         log p(o | s = z) for every z, shape (N_z,).
         """
+    @typing.overload
+    def sample(self, z: typing.SupportsInt | typing.SupportsIndex, rng: nlosloc._core.core.Rng) -> float:
+        """
+        One statistic drawn under condition z (simulation).
+        """
+    @typing.overload
     def sample(self, s: typing.Any, rng: nlosloc._core.core.Rng) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         One statistic per anchor for situation s (B,).

@@ -144,6 +144,10 @@ class LosSolver:
         """
         Fix from the rows flagged in `use` (default all) with per-row RowNoise `noise` (default LOS).
         """
+    def solve_los(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], theta0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> Fix:
+        """
+        Fix from every row with the LOS Gaussian noise (MLE-LOS): solve(y, theta0) with the defaults.
+        """
     def to_state(self, theta: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         The full state vector of the stack's layout (zeros but position and clock bias) of a fix theta.
