@@ -205,6 +205,11 @@ void define_module(py::module_& m) {
            [](const SigmaScheme& a, const SigmaScheme& b) {
              return a.kind == b.kind && a.alpha == b.alpha && a.beta == b.beta && a.kappa == b.kappa;
            })
+      // Equal schemes hash alike (defining __eq__ alone leaves a pybind11 class unhashable).
+      .def("__hash__",
+           [](const SigmaScheme& s) {
+             return py::hash(py::make_tuple(static_cast<int>(s.kind), s.alpha, s.beta, s.kappa));
+           })
       .def("__repr__", [](const SigmaScheme& s) {
         return std::string("SigmaScheme(kind=") + to_string(s.kind) + ", alpha=" + std::to_string(s.alpha) +
                ", beta=" + std::to_string(s.beta) + ", kappa=" + std::to_string(s.kappa) + ")";

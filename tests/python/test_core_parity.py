@@ -128,6 +128,7 @@ def test_sigma_scheme_from_its_fields() -> None:
     assert w.gamma == pytest.approx(np.sqrt(0.5), rel=1e-14)
     t = pickle.loads(pickle.dumps(s))
     assert t == s and t.weights(2).wc0 == w.wc0  # pickled from its fields, beta kept
+    assert hash(t) == hash(s) and len({t, s, core.SigmaScheme.huerta(0.5)}) == 2
     s.validate(2)
     bad = core.SigmaScheme(k.Scaled, alpha=1.5)  # built as the C++ aggregate: checked when used
     with pytest.raises(ValueError, match=r"alpha: expected a value in \(0, 1\], got 1.5"):

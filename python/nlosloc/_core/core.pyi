@@ -194,7 +194,6 @@ class SigmaScheme:
         @property
         def value(self) -> int:
             ...
-    __hash__: typing.ClassVar[None] = None
     @staticmethod
     def cubature() -> SigmaScheme:
         """
@@ -216,6 +215,8 @@ class SigmaScheme:
         Scaled UT of Wan and van der Merwe (FilterPy's MerweScaledSigmaPoints); alpha in (0, 1].
         """
     def __eq__(self, arg0: SigmaScheme) -> bool:
+        ...
+    def __hash__(self) -> int:
         ...
     def __init__(self, kind: SigmaScheme.Kind = ..., alpha: typing.SupportsFloat | typing.SupportsIndex = 1.0, beta: typing.SupportsFloat | typing.SupportsIndex = 2.0, kappa: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         """
