@@ -6,9 +6,13 @@
 /// compiles in unity batches (NLOSLOC_UNITY_PYTHON), where file-scope names would meet the next file's.
 #include <pybind11/pybind11.h>
 
+#include <memory>
+#include <string>
+
 namespace nlosloc::sim {
 class Registry;
-}
+class Scenario;
+}  // namespace nlosloc::sim
 
 /// nlosloc.core: aliases, Gaussian, sigma points, robust Cholesky, log-sum-exp, Rng (bind_core.cpp).
 void bind_core(pybind11::module_& m);
@@ -40,3 +44,6 @@ void bind_sim_custom(pybind11::module_& m);
 /// The built-in registry (nlosloc::sim::registry()), defined in bind_sim.cpp: the only file that includes
 /// its inline definition, since every file that does compiles every scenario's estimators (about 140 s).
 const nlosloc::sim::Registry& python_registry();
+/// The scenario registered as `name` (ValueError listing the names otherwise), as the non-const pointer
+/// pybind11's Scenario holder takes: scenarios have no mutators, so sharing the registered object is safe.
+std::shared_ptr<nlosloc::sim::Scenario> registered_scenario(const std::string& name);

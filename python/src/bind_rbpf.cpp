@@ -337,9 +337,7 @@ void define_module(py::module_& m) {
                     "The threads' random generators: GENERATOR_WORDS 64-bit words each (opaque).")
       .def_readonly("time", &PfSnapshot::time)
       .def_readonly("step", &PfSnapshot::step)
-      .def_property_readonly_static(
-          "GENERATOR_WORDS", [](const py::object&) { return PfSnapshot::kGeneratorWords; },
-          "Words per thread in generators.");
+      .attr("GENERATOR_WORDS") = PfSnapshot::kGeneratorWords;  // words per thread in generators
 
   py::class_<PfStepInfo>(m, "PfStepInfo", "What one PF step reports.")
       .def_readonly("log_likelihood", &PfStepInfo::log_likelihood)

@@ -286,6 +286,10 @@ void bind_scenarios(py::module_& m) {
 
 const sim::Registry& python_registry() { return sim::registry(); }
 
+std::shared_ptr<sim::Scenario> registered_scenario(const std::string& name) {
+  return std::const_pointer_cast<sim::Scenario>(sim::registry().scenario_ptr(name));
+}
+
 void bind_sim(py::module_& m) {
   bind_scenarios(m);
   bind_sim_ke_wu(m);
@@ -302,14 +306,8 @@ list of str
     Scenario names in registration order, e.g. ``["K1"]``.
 )doc");
 
-  m.def(
-      "scenario",
-      [](const std::string& name) {
-        // Scenarios have no mutators, so handing out the registered object is safe.
-        return std::const_pointer_cast<sim::Scenario>(sim::registry().scenario_ptr(name));
-      },
-      py::arg("name"),
-      R"doc(The registered scenario object (C++ ``registry().scenario_ptr(name)``).
+  m.def("scenario", &registered_scenario, py::arg("name"),
+        R"doc(The registered scenario object (C++ ``registry().scenario_ptr(name)``).
 
 Parameters
 ----------
@@ -382,8 +380,8 @@ dict
       [](const std::string& name, const std::string& case_name, int runs, const UInt64Arg& seed,
          const std::optional<py::sequence>& estimators, int threads, std::optional<int> steps,
          const py::object& progress, const UInt64Arg& first_run) {
-        return run_monte_carlo(std::const_pointer_cast<sim::Scenario>(sim::registry().scenario_ptr(name)),
-                               case_name, runs, seed, estimators, threads, steps, progress, first_run);
+        return run_monte_carlo(registered_scenario(name), case_name, runs, seed, estimators, threads, steps,
+                               progress, first_run);
       },
       py::arg("name"), py::arg("case"), py::arg("runs"), py::arg("seed"), py::arg("estimators") = py::none(),
       py::arg("threads") = 0, py::arg("steps") = py::none(), py::arg("progress") = py::none(),

@@ -219,8 +219,7 @@ void bind_k2_study(py::module_& m) {
       "run_k2_study",
       [study](int runs, const nlosloc::bind::UInt64Arg& seed, std::optional<int> steps,
               const std::optional<py::sequence>& estimators, const nlosloc::bind::UInt64Arg& first_run) {
-        auto k2 = std::dynamic_pointer_cast<sim::K2>(
-            std::const_pointer_cast<sim::Scenario>(python_registry().scenario_ptr("K2")));
+        auto k2 = std::dynamic_pointer_cast<sim::K2>(registered_scenario("K2"));
         if (!k2) throw std::logic_error("run_k2_study: the registry's K2 is not a sim::K2");
         return study(k2, runs, seed, steps, estimators, first_run);
       },
