@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import sys as _sys
 
-from nlosloc import _core, _pickle  # noqa: F401  (_pickle: pickling of scenarios, parameters)
+from nlosloc import _core, _params, _pickle  # noqa: F401  (keyword constructors and reprs; pickling)
 from nlosloc._core import (
     bounds,
     core,

@@ -44,6 +44,9 @@ void bind_sim_custom(pybind11::module_& m);
 /// The built-in registry (nlosloc::sim::registry()), defined in bind_sim.cpp: the only file that includes
 /// its inline definition, since every file that does compiles every scenario's estimators (about 140 s).
 const nlosloc::sim::Registry& python_registry();
+/// Python's repr of a float ("2.0", "1e-07", "inf"): the shortest text that reads back as v, for the
+/// classes' __repr__ (std::to_string prints six decimals: 1e-7 as "0.000000").
+inline std::string float_repr(double v) { return pybind11::repr(pybind11::float_(v)).cast<std::string>(); }
 /// The scenario registered as `name` (ValueError listing the names otherwise), as the non-const pointer
 /// pybind11's Scenario holder takes: scenarios have no mutators, so sharing the registered object is safe.
 std::shared_ptr<nlosloc::sim::Scenario> registered_scenario(const std::string& name);

@@ -170,8 +170,8 @@ void define_module(py::module_& m) {
       .def_readonly("wc0", &SigmaWeights::wc0, "Covariance weight of the centre point.")
       .def_readonly("wi", &SigmaWeights::wi, "Weight of each of the 2n outer points.")
       .def("__repr__", [](const SigmaWeights& w) {
-        return "SigmaWeights(gamma=" + std::to_string(w.gamma) + ", wm0=" + std::to_string(w.wm0) +
-               ", wc0=" + std::to_string(w.wc0) + ", wi=" + std::to_string(w.wi) + ")";
+        return "SigmaWeights(gamma=" + float_repr(w.gamma) + ", wm0=" + float_repr(w.wm0) +
+               ", wc0=" + float_repr(w.wc0) + ", wi=" + float_repr(w.wi) + ")";
       });
 
   py::class_<SigmaScheme> sch(m, "SigmaScheme", "Sigma-point rule of the unscented transform.");
@@ -211,8 +211,10 @@ void define_module(py::module_& m) {
              return py::hash(py::make_tuple(static_cast<int>(s.kind), s.alpha, s.beta, s.kappa));
            })
       .def("__repr__", [](const SigmaScheme& s) {
-        return std::string("SigmaScheme(kind=") + to_string(s.kind) + ", alpha=" + std::to_string(s.alpha) +
-               ", beta=" + std::to_string(s.beta) + ", kappa=" + std::to_string(s.kappa) + ")";
+        // the constructor's form: eval() of it (names from nlosloc.core) gives an equal scheme
+        return "SigmaScheme(kind=SigmaScheme.Kind." + py::cast(s.kind).attr("name").cast<std::string>() +
+               ", alpha=" + float_repr(s.alpha) + ", beta=" + float_repr(s.beta) +
+               ", kappa=" + float_repr(s.kappa) + ")";
       });
 
   m.def(

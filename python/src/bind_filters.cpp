@@ -185,8 +185,9 @@ void define_module(py::module_& m) {
       .def_readonly("status", &StepResult::status, "Worst Cholesky outcome of the step.")
       .def_readonly("jitter", &StepResult::jitter, "Diagonal added by the Cholesky fallback, if any.")
       .def("__repr__", [](const StepResult& r) {
-        return "StepResult(log_likelihood=" + std::to_string(r.log_likelihood) +
-               ", rows_used=" + std::to_string(r.rows_used) + ", status=" + to_string(r.status) + ")";
+        return "StepResult(log_likelihood=" + float_repr(r.log_likelihood) +
+               ", rows_used=" + std::to_string(r.rows_used) + ", status=" + to_string(r.status) +
+               ", jitter=" + float_repr(r.jitter) + ")";
       });
 
   {

@@ -259,7 +259,7 @@ void define_module(pybind11::module_& m) {
   m.def(
       "make_box_qp",
       [](int n, const BoxQpSettings& s, const std::string& solver) { return solver_by_name(solver, n, s); },
-      py::arg("n"), py::arg("settings") = BoxQpSettings(), py::arg("solver") = "default",
+      py::arg("n"), py::arg_v("settings", BoxQpSettings(), "BoxQpSettings()"), py::arg("solver") = "default",
       "A BoxQp of n variables: solver 'default' (make_box_qp: proxsuite when built with it, else "
       "'enumeration'), 'enumeration' (exact KKT search over the active sets, n <= 8, no allocation in "
       "solve; on a singular H it returns a vertex of the optimal set), 'proxsuite' (dense QP) or "
@@ -334,7 +334,8 @@ void define_module(pybind11::module_& m) {
              return std::make_unique<BiasEstimator>(
                  anchors, solver_arg(solver, static_cast<int>(anchors.rows()), s, false));
            }),
-           py::arg("anchors"), py::arg("solver") = "default", py::arg("settings") = BoxQpSettings(),
+           py::arg("anchors"), py::arg("solver") = "default",
+           py::arg_v("settings", BoxQpSettings(), "BoxQpSettings()"),
            "anchors (M, 2), M >= 3. solver: a name (as make_box_qp), a BoxQp of size M (a copy is used) or "
            "an object with solve(H, g, lower, upper) returning the minimiser (M,) or None (see QpBiasEkf).")
       .def(
@@ -422,7 +423,8 @@ void define_module(pybind11::module_& m) {
              return std::make_unique<QpBiasEkf>(motion, anchors, to_belief4(mean, cov), o, std::move(qp), t0);
            }),
            py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
-           py::arg("options") = QpBiasEkfOptions(), py::arg("solver") = "default", py::arg("t0") = 0.0,
+           py::arg_v("options", QpBiasEkfOptions(), "QpBiasEkfOptions()"), py::arg("solver") = "default",
+           py::arg("t0") = 0.0,
            "motion: models.ConstantVelocity2 (eq. 16); anchors (M, 2); initial mean (4,), cov (4, 4). "
            "solver: 'default' (its own choice), 'enumeration', 'proxsuite', 'failing', a BoxQp of size M "
            "(make_box_qp; the tracker uses a copy), or your own: an "
@@ -518,7 +520,7 @@ void define_module(pybind11::module_& m) {
              return BiasAugmentedEkf(motion, anchors, to_belief4(mean, cov), o, t0);
            }),
            py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
-           py::arg("options") = BiasAugmentedEkfOptions(), py::arg("t0") = 0.0)
+           py::arg_v("options", BiasAugmentedEkfOptions(), "BiasAugmentedEkfOptions()"), py::arg("t0") = 0.0)
       .def("predict", &BiasAugmentedEkf::predict)
       .def("update", &BiasAugmentedEkf::update, py::arg("z"))
       .def("step", &BiasAugmentedEkf::step, py::arg("z"))

@@ -22,29 +22,31 @@ using namespace nlosloc::noise;
 
 namespace {
 
-/// Python's repr of a float ("2.0", "inf", "1e-05").
-std::string r(double v) { return py::repr(py::float_(v)).cast<std::string>(); }
-
-std::string repr_of(const Normal& d) { return "Normal(mean=" + r(d.mean()) + ", std=" + r(d.stddev()) + ")"; }
-std::string repr_of(const Rayleigh& d) { return "Rayleigh(scale=" + r(d.scale()) + ")"; }
-std::string repr_of(const Exponential& d) { return "Exponential(mean=" + r(d.mean()) + ")"; }
+std::string repr_of(const Normal& d) {
+  return "Normal(mean=" + float_repr(d.mean()) + ", std=" + float_repr(d.stddev()) + ")";
+}
+std::string repr_of(const Rayleigh& d) { return "Rayleigh(scale=" + float_repr(d.scale()) + ")"; }
+std::string repr_of(const Exponential& d) { return "Exponential(mean=" + float_repr(d.mean()) + ")"; }
 std::string repr_of(const Gev& d) {
-  return "Gev(shape=" + r(d.shape()) + ", loc=" + r(d.loc()) + ", scale=" + r(d.scale()) + ")";
+  return "Gev(shape=" + float_repr(d.shape()) + ", loc=" + float_repr(d.loc()) +
+         ", scale=" + float_repr(d.scale()) + ")";
 }
 std::string repr_of(const TruncatedNormal& d) {
-  return "TruncatedNormal(mu=" + r(d.mu()) + ", sigma=" + r(d.sigma()) + ", lower=" + r(d.lower()) +
-         ", upper=" + r(d.upper()) + ")";
+  return "TruncatedNormal(mu=" + float_repr(d.mu()) + ", sigma=" + float_repr(d.sigma()) +
+         ", lower=" + float_repr(d.lower()) + ", upper=" + float_repr(d.upper()) + ")";
 }
 std::string repr_of(const ShiftedNormal& d) {
-  return "ShiftedNormal(shift=" + r(d.shift()) + ", std=" + r(d.stddev()) + ")";
+  return "ShiftedNormal(shift=" + float_repr(d.shift()) + ", std=" + float_repr(d.stddev()) + ")";
 }
 std::string repr_of(const AsymmetricNormal& d) {
-  return "AsymmetricNormal(mode=" + r(d.mode()) + ", sigma_left=" + r(d.sigma_left()) +
-         ", sigma_right=" + r(d.sigma_right()) + ")";
+  return "AsymmetricNormal(mode=" + float_repr(d.mode()) + ", sigma_left=" + float_repr(d.sigma_left()) +
+         ", sigma_right=" + float_repr(d.sigma_right()) + ")";
 }
-std::string repr_of(const Beta& d) { return "Beta(a=" + r(d.a()) + ", b=" + r(d.b()) + ")"; }
+std::string repr_of(const Beta& d) {
+  return "Beta(a=" + float_repr(d.a()) + ", b=" + float_repr(d.b()) + ")";
+}
 std::string repr_of(const Empirical& d) {
-  return "Empirical(n=" + std::to_string(d.size()) + ", bandwidth=" + r(d.bandwidth()) + ")";
+  return "Empirical(n=" + std::to_string(d.size()) + ", bandwidth=" + float_repr(d.bandwidth()) + ")";
 }
 std::string repr_of(const Distribution& d) {
   return "Distribution(" + std::visit([](const auto& x) { return repr_of(x); }, d.variant()) + ")";

@@ -359,7 +359,7 @@ void define_module(py::module_& m) {
             });
           }),
           py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
-          py::arg("cov"), py::arg("options") = RbpfOptions(), py::arg("t0") = 0.0);
+          py::arg("cov"), py::arg_v("options", RbpfOptions(), "RbpfOptions()"), py::arg("t0") = 0.0);
     summary_methods<A>(c);
     c.def(
          "step",
@@ -424,7 +424,7 @@ void define_module(py::module_& m) {
             });
           }),
           py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
-          py::arg("cov"), py::arg("options") = PfOptions(), py::arg("t0") = 0.0);
+          py::arg("cov"), py::arg_v("options", PfOptions(), "PfOptions()"), py::arg("t0") = 0.0);
     summary_methods<A>(c);
     c.def(
          "step",

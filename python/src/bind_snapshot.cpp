@@ -114,9 +114,8 @@ void define_module(py::module_& m) {
       .def("normalized", &RowNoise::normalized, py::arg("r"),
            "Normalised residual (r - center) / sigma, with sigma_left below the center, sigma_right above.")
       .def("__repr__", [](const RowNoise& r) {
-        return "RowNoise(center=" + std::to_string(r.center) +
-               ", sigma_left=" + std::to_string(r.sigma_left) +
-               ", sigma_right=" + std::to_string(r.sigma_right) + ")";
+        return "RowNoise(center=" + float_repr(r.center) + ", sigma_left=" + float_repr(r.sigma_left) +
+               ", sigma_right=" + float_repr(r.sigma_right) + ")";
       });
 
   py::class_<GaussNewtonOptions>(m, "GaussNewtonOptions",
@@ -140,7 +139,7 @@ void define_module(py::module_& m) {
       "Per-epoch damped Gauss-Newton fix of position (and clock bias for RTOA rows) on a "
       "MeasurementStack (the MLE-LOS of Huerta Sec. VI-A and the inner solver of the baselines).")
       .def(py::init<const MeasurementStack&, const GaussNewtonOptions&>(), py::arg("measurements"),
-           py::arg("options") = GaussNewtonOptions())
+           py::arg_v("options", GaussNewtonOptions(), "GaussNewtonOptions()"))
       .def_property_readonly("unknowns", &LosSolver::unknowns, "D, plus 1 with RTOA rows.")
       .def_property_readonly("has_clock", &LosSolver::has_clock, "True when the clock bias is an unknown.")
       .def_property_readonly("space_dim", &LosSolver::space_dim, "Space dimension D.")
@@ -241,7 +240,7 @@ void define_module(py::module_& m) {
     py::class_<MleLos> c(m, "MleLos",
                          "MLE-LOS (Huerta Sec. VI-A): per-epoch ML fix with every anchor assumed LOS.");
     c.def(py::init<const MeasurementStack&, const GaussNewtonOptions&>(), py::arg("measurements"),
-          py::arg("options") = GaussNewtonOptions());
+          py::arg_v("options", GaussNewtonOptions(), "GaussNewtonOptions()"));
     baseline_methods<MleLos>(c);
   }
   {
@@ -249,8 +248,8 @@ void define_module(py::module_& m) {
                        "CHEN: Chen 1999 residual weighting over anchor combinations, 50% of the combinations "
                        "with the largest normalised residual rejected (Huerta Sec. VI-B).");
     c.def(py::init<const MeasurementStack&, const ChenOptions&, const GaussNewtonOptions&>(),
-          py::arg("measurements"), py::arg("options") = ChenOptions(),
-          py::arg("gauss_newton") = GaussNewtonOptions());
+          py::arg("measurements"), py::arg_v("options", ChenOptions(), "ChenOptions()"),
+          py::arg_v("gauss_newton", GaussNewtonOptions(), "GaussNewtonOptions()"));
     baseline_methods<Chen>(c);
     c.def_property_readonly("combinations", &Chen::combinations, "Anchor bit masks of the combinations.");
   }
@@ -260,8 +259,8 @@ void define_module(py::module_& m) {
         "CONG: Cong & Zhuang 2005 residual-test NLOS identification; with too few LOS anchors the "
         "smallest-residual rows under an asymmetric Gaussian fit of the NLOS noise.");
     c.def(py::init<const MeasurementStack&, const CongOptions&, const GaussNewtonOptions&>(),
-          py::arg("measurements"), py::arg("options") = CongOptions(),
-          py::arg("gauss_newton") = GaussNewtonOptions());
+          py::arg("measurements"), py::arg_v("options", CongOptions(), "CongOptions()"),
+          py::arg_v("gauss_newton", GaussNewtonOptions(), "GaussNewtonOptions()"));
     baseline_methods<Cong>(c);
     c.def_property_readonly("nlos_noise", &Cong::nlos_noise, "Fitted split normal of each row's NLOS noise.")
         .def_property_readonly("enough_los", &Cong::enough_los, "True when the last epoch found a LOS set.");
@@ -272,8 +271,8 @@ void define_module(py::module_& m) {
         "URR: Riba & Urruela ML detection of the LOS set with the Urruela-Morata-Riba trellis "
         "(Viterbi) search over time, on TDOA.");
     c.def(py::init<const MeasurementStack&, const UrruelaOptions&, const GaussNewtonOptions&>(),
-          py::arg("measurements"), py::arg("options") = UrruelaOptions(),
-          py::arg("gauss_newton") = GaussNewtonOptions());
+          py::arg("measurements"), py::arg_v("options", UrruelaOptions(), "UrruelaOptions()"),
+          py::arg_v("gauss_newton", GaussNewtonOptions(), "GaussNewtonOptions()"));
     baseline_methods<Urruela>(c);
     c.def_property_readonly("hypotheses", &Urruela::hypotheses, "LOS anchor bit masks of the trellis states.")
         .def_property_readonly("path_metrics", &Urruela::path_metrics, "Viterbi metrics (minimum 0).");

@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "any_filter.hpp"
+#include "bind.hpp"
 #include "native_makers.hpp"
 #include "nlosloc/core/random.hpp"
 #include "nlosloc/sim/estimators.hpp"
@@ -203,7 +204,6 @@ std::string who(const std::string& name, const char* what) {
 void check_fit(const std::string& name, const char* what, int n, Eigen::Index rows, Eigen::Index anchors,
                double dt, const sim::Scenario& s) {
   const std::string w = who(name, what);
-  auto repr_double = [](double v) { return py::repr(py::float_(v)).cast<std::string>(); };
   if (n != s.state_dim())
     throw py::value_error(w + "has a state of " + std::to_string(n) + " components; scenario " + s.name() +
                           " has " + std::to_string(s.state_dim()));
@@ -214,8 +214,8 @@ void check_fit(const std::string& name, const char* what, int n, Eigen::Index ro
     throw py::value_error(w + "has " + std::to_string(anchors) + " anchors; scenario " + s.name() + " has " +
                           std::to_string(s.anchors().rows()));
   if (!std::isnan(dt) && !(std::abs(dt - s.dt()) <= 1e-12 * std::max(1.0, std::abs(s.dt()))))
-    throw py::value_error(w + "predicts over dt = " + repr_double(dt) + " s; scenario " + s.name() +
-                          " samples every " + repr_double(s.dt()) + " s");
+    throw py::value_error(w + "predicts over dt = " + float_repr(dt) + " s; scenario " + s.name() +
+                          " samples every " + float_repr(s.dt()) + " s");
 }
 
 py::dict draw_to_dict(sim::Draw d) {

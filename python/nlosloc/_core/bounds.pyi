@@ -10,6 +10,8 @@ class GcrbResult:
     """
     Information matrices and position bounds of gcrb_rtoa.
     """
+    def __repr__(self) -> str:
+        ...
     @property
     def J(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """

@@ -69,7 +69,11 @@ class BoxQpSettings:
     """
     Accuracy settings of the box-QP solvers (DESIGN.md).
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        BoxQpSettings(**fields): the defaults, with any of the fields (eps_abs, check_duality_gap, eps_duality_gap_abs, max_iter, compute_preconditioner) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     @property
     def check_duality_gap(self) -> bool:
@@ -115,6 +119,8 @@ class QpResult:
     """
     What one BoxQp.solve reports; the minimiser is BoxQp.x.
     """
+    def __repr__(self) -> str:
+        ...
     def ok(self) -> bool:
         """
         True when solved.
@@ -277,6 +283,8 @@ class RangeNoise:
     """
     def __init__(self, sigma0: typing.SupportsFloat | typing.SupportsIndex = 50.0, relative: typing.SupportsFloat | typing.SupportsIndex = 0.0, min_std: typing.SupportsFloat | typing.SupportsIndex = 0.001) -> None:
         ...
+    def __repr__(self) -> str:
+        ...
     def std_at(self, d: typing.SupportsFloat | typing.SupportsIndex) -> float:
         """
         Noise std at distance d (m).
@@ -307,6 +315,8 @@ class ReferencePoint:
     """
     Reference point X0 of Sec. 3.
     """
+    def __repr__(self) -> str:
+        ...
     @property
     def kind(self) -> ReferenceKind:
         ...
@@ -320,6 +330,8 @@ class BiasEstimate:
     """
     Result of BiasEstimator.estimate (Sec. 3).
     """
+    def __repr__(self) -> str:
+        ...
     @property
     def bias(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
@@ -449,7 +461,11 @@ class QpBiasEkfOptions:
     """
     Options of QpBiasEkf.
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        QpBiasEkfOptions(**fields): the defaults, with any of the fields (gamma, noise, mitigate, always_estimate, sparsity, reference, drop_free_rows, soft_threshold) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     def validate(self) -> None:
         """
@@ -523,6 +539,8 @@ class MitigationStep:
     """
     What one QpBiasEkf update reports.
     """
+    def __repr__(self) -> str:
+        ...
     @property
     def bias_estimated(self) -> bool:
         ...
@@ -647,7 +665,11 @@ class BiasAugmentedEkfOptions:
     """
     noise: RangeNoise
     nonnegative: bool
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        BiasAugmentedEkfOptions(**fields): the defaults, with any of the fields (noise, bias_prior_mean, bias_prior_std, bias_walk_std, iterations, nonnegative) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     def validate(self) -> None:
         """

@@ -12,7 +12,11 @@ class StateLayout:
     """
     Indices of the state pieces (-1 = absent).
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        StateLayout(**fields): the defaults, with any of the fields (dim, space_dim, position, velocity, clock_bias, clock_drift, skew, offset) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     @property
     def clock_bias(self) -> int:
@@ -386,6 +390,8 @@ class TwrParams:
     """
     Parameters of a two-way-ranging pair (add_twr).
     """
+    def __repr__(self) -> str:
+        ...
     @property
     def delta_slot(self) -> float:
         """

@@ -118,6 +118,8 @@ class RbpfOptions:
     @typing.overload
     def __init__(self, variant: RbpfVariant = RbpfVariant.Reordered, num_particles: typing.SupportsInt | typing.SupportsIndex = 16, max_offspring: int = 4096, merge: bool = True, merge_threshold: typing.SupportsFloat | typing.SupportsIndex = -1.0, threads: typing.SupportsInt | typing.SupportsIndex = 1, scheme: nlosloc._core.core.SigmaScheme = ..., noise_form: nlosloc._core.filters.NoiseForm = nlosloc._core.filters.NoiseForm.Additive) -> None:
         ...
+    def __repr__(self) -> str:
+        ...
     @property
     def max_offspring(self) -> int:
         """
@@ -209,6 +211,8 @@ class RbpfStepInfo:
     """
     What one RBPF step reports.
     """
+    def __repr__(self) -> str:
+        ...
     @property
     def failures(self) -> int:
         ...
@@ -241,6 +245,8 @@ class PfOptions:
         ...
     @typing.overload
     def __init__(self, num_particles: typing.SupportsInt | typing.SupportsIndex = 10000, resampling: PfResampling = PfResampling.Systematic, ess_threshold: typing.SupportsFloat | typing.SupportsIndex = 0.5, merge_threshold: typing.SupportsFloat | typing.SupportsIndex = -1.0, threads: typing.SupportsInt | typing.SupportsIndex = 1, seed: int = 0) -> None:
+        ...
+    def __repr__(self) -> str:
         ...
     @property
     def ess_threshold(self) -> float:
@@ -325,6 +331,8 @@ class PfStepInfo:
     """
     What one PF step reports.
     """
+    def __repr__(self) -> str:
+        ...
     @property
     def ess(self) -> float:
         ...

@@ -95,7 +95,11 @@ class H1Params:
     """
     Parameters of H1 (Huerta et al. 2009 Sec. VI-A, Tables VII-VIII, plus choices). Checked when an H1 is built from them (ValueError naming the field).
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        H1Params(**fields): the defaults, with any of the fields (dt, steps, speed, mean_los, mean_nlos, sigma_v2, toa_los_var, toa_nlos_var, aoa_los_var, aoa_nlos_var, discard, rbpf_particles, quality_los_a, quality_los_b, quality_nlos_a, quality_nlos_b, start, heading, sector_deg, initial_std) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     @property
     def aoa_los_var(self) -> float:
@@ -291,7 +295,11 @@ class H2Params:
     """
     Parameters of H2 (Huerta et al. 2009 Sec. VI-B, Tables IX-X, plus choices). Checked when an H2 is built from them (ValueError naming the field).
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        H2Params(**fields): the defaults, with any of the fields (side, dt, steps, sigma_v2, sigma_tau2, tau0_var, tau_dot0_var, mean_los, mean_nlos, rtoa_los_var, rtoa_nlos_var, position0_std, velocity0_std, discard, urr_speed, pf_particles, quality_los_a, quality_los_b, quality_nlos_a, quality_nlos_b) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     @property
     def discard(self) -> int:
@@ -495,7 +503,11 @@ class K1Params:
     """
     Parameters of K1 (Ke & Wu 2011 Secs. 6 and 6.1, plus choices). Checked when a K1 (or a K2 through K2Params.base) is built from them (ValueError naming the field).
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        K1Params(**fields): the defaults, with any of the fields (sigma_los, nlos_mean, nlos_std, nlos_nonnegative, anchors, accel_var, steps, dt, discard, gamma, iterated_bias_prior_std, iterated_bias_walk_std, iterated_iterations, start, velocity, initial_std) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     @property
     def accel_var(self) -> float:
@@ -655,7 +667,11 @@ class K2Params:
     """
     Parameters of K2 (Ke & Wu 2011 Sec. 6.2): K1's in `base` plus the switching period. Checked when a K2 is built from them (ValueError naming the field).
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        K2Params(**fields): the defaults, with any of the fields (base, period, start_nlos) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     @property
     def base(self) -> K1Params:
@@ -705,7 +721,11 @@ class K3Params:
     """
     Parameters of K3 (Ke & Wu 2011 Sec. 6.4, plus choices). Checked when a K3 is built from them (ValueError naming the field).
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        K3Params(**fields): the defaults, with any of the fields (sigma_rel, nlos_rel, threshold, good, bad, accel_var, steps, dt, discard, gamma, iterated_bias_prior_std, iterated_bias_walk_std, iterated_iterations, start, velocity, initial_std) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     @property
     def accel_var(self) -> float:
@@ -927,6 +947,8 @@ class EstimatorSummary:
     """
     Summary of one estimator on one case.
     """
+    def __repr__(self) -> str:
+        ...
     def at(self, level: typing.SupportsFloat | typing.SupportsIndex) -> float:
         """
         Percentile at `level` (one of levels); NaN if it was not computed.
@@ -973,6 +995,8 @@ class CaseSummary:
     """
     Summary of one case: one EstimatorSummary per estimator.
     """
+    def __repr__(self) -> str:
+        ...
     @property
     def case(self) -> str:
         ...

@@ -69,7 +69,11 @@ class GaussNewtonOptions:
     """
     Options of the Gauss-Newton / Levenberg-Marquardt fix.
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        GaussNewtonOptions(**fields): the defaults, with any of the fields (max_iterations, step_tolerance, initial_damping, max_damping) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     @property
     def initial_damping(self) -> float:
@@ -99,6 +103,8 @@ class Fix:
     """
     Result of one Gauss-Newton fix.
     """
+    def __repr__(self) -> str:
+        ...
     @property
     def converged(self) -> bool:
         ...
@@ -186,7 +192,11 @@ class ChenOptions:
     """
     Options of Chen.
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        ChenOptions(**fields): the defaults, with any of the fields (min_size, reject_fraction, residual_floor) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     @property
     def min_size(self) -> int:
@@ -210,7 +220,11 @@ class CongOptions:
     """
     Options of Cong.
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        CongOptions(**fields): the defaults, with any of the fields (confidence, negative_sigmas, min_los, min_rows, fit_samples, fit_seed) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     @property
     def confidence(self) -> float:
@@ -252,7 +266,11 @@ class UrruelaOptions:
     """
     Options of Urruela.
     """
-    def __init__(self) -> None:
+    def __init__(self, *args: typing.Any, **fields: typing.Any) -> None:
+        """
+        UrruelaOptions(**fields): the defaults, with any of the fields (p_nlos, p_ln, p_nl, nlos_span) set by keyword.
+        """
+    def __repr__(self) -> str:
         ...
     @property
     def nlos_span(self) -> float:
