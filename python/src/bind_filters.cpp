@@ -186,8 +186,8 @@ void define_module(py::module_& m) {
       .def_readonly("jitter", &StepResult::jitter, "Diagonal added by the Cholesky fallback, if any.")
       .def("__repr__", [](const StepResult& r) {
         return "StepResult(log_likelihood=" + float_repr(r.log_likelihood) +
-               ", rows_used=" + std::to_string(r.rows_used) + ", status=" + to_string(r.status) +
-               ", jitter=" + float_repr(r.jitter) + ")";
+               ", rows_used=" + std::to_string(r.rows_used) + ", status=CholeskyStatus." +
+               py::cast(r.status).attr("name").cast<std::string>() + ", jitter=" + float_repr(r.jitter) + ")";
       });
 
   {
