@@ -1,6 +1,6 @@
 """Keyword constructors and reprs for the parameter, options and settings classes, and reprs for the
-small result records (a step's report, a fix, a bias estimate, a summary), which pybind11 would
-print as ``<... object at 0x...>``.
+small value classes and result records (a sigma-point scheme and its weights, a step's report, a
+fix, a bias estimate, a summary), which pybind11 would print as ``<... object at 0x...>``.
 
 A parameter class (``_pickle._PARAMS``) takes any of its fields as keywords:
 ``GaussNewtonOptions(max_iterations=50)`` is ``GaussNewtonOptions()`` with that field set, through
@@ -12,7 +12,8 @@ Each of these classes and records prints as its class name and its fields in the
 declares them, every float as Python prints it (the shortest text that reads back as the same
 number), enums by name. For a parameter class that is the constructor call that rebuilds it:
 ``eval`` of the repr, with the module's names and numpy's ``array`` in scope, gives an object with
-the same fields. The records' fields are read-only; their repr is for reading.
+the same fields; likewise for ``SigmaScheme`` and ``RowNoise``, whose constructors take their
+fields. The other records' fields are read-only: their repr is for reading.
 """
 
 from __future__ import annotations
@@ -20,14 +21,20 @@ from __future__ import annotations
 from typing import Any
 
 from nlosloc._core import bounds as _bounds
+from nlosloc._core import core as _core
+from nlosloc._core import filters as _filters
 from nlosloc._core import mitigation as _mitigation
 from nlosloc._core import models as _models
 from nlosloc._core import rbpf as _rbpf
 from nlosloc._core import sim as _sim
 from nlosloc._core import snapshot as _snapshot
-from nlosloc._pickle import _PARAMS
+from nlosloc._pickle import _PARAMS, _field_names
 
 _RECORDS = (
+    _core.SigmaScheme,
+    _core.SigmaWeights,
+    _filters.StepResult,
+    _snapshot.RowNoise,
     _rbpf.RbpfStepInfo,
     _rbpf.PfStepInfo,
     _mitigation.MitigationStep,
@@ -42,19 +49,11 @@ _RECORDS = (
 )
 
 
-def _field_names(cls: type, writable_only: bool) -> list[str]:
-    # A pybind11 class's __dict__ keeps the order in which its properties were defined.
-    return [
-        k
-        for k, a in vars(cls).items()
-        if isinstance(a, property) and (a.fset is not None or not writable_only)
-    ]
-
-
 def _value_repr(v: Any) -> str:
-    # pybind11 enums print as "<RbpfVariant.Reordered: 1>"; by name they read as the value itself.
+    # pybind11 enums print as "<RbpfVariant.Reordered: 1>"; by name they read as the value itself
+    # (qualified: SigmaScheme.Kind.Scaled).
     if hasattr(type(v), "__members__") and hasattr(v, "name"):
-        return f"{type(v).__name__}.{v.name}"
+        return f"{type(v).__qualname__}.{v.name}"
     return repr(v)
 
 

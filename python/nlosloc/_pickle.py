@@ -59,13 +59,18 @@ _PARAMS = (
 _SCENARIOS = (_sim.H1, _sim.H2, _sim.K1, _sim.K2, _sim.K3)
 
 
+def _field_names(cls: type, writable_only: bool = True) -> list[str]:
+    """The class's properties (only those with a setter when writable_only), in the order the class
+    defines them (a pybind11 class's __dict__ keeps it); also the reprs' fields (_params)."""
+    return [
+        k
+        for k, a in vars(cls).items()
+        if isinstance(a, property) and (a.fset is not None or not writable_only)
+    ]
+
+
 def _fields(obj: Any) -> dict[str, Any]:
-    cls = type(obj)
-    return {
-        k: getattr(obj, k)
-        for k in dir(cls)
-        if isinstance(getattr(cls, k, None), property) and getattr(cls, k).fset is not None
-    }
+    return {k: getattr(obj, k) for k in _field_names(type(obj))}
 
 
 def _make_params(cls: type, fields: dict[str, Any]) -> Any:

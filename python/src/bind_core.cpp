@@ -168,11 +168,7 @@ void define_module(py::module_& m) {
       .def_readonly("gamma", &SigmaWeights::gamma, "Spread: points are mean +- gamma * L[:, i].")
       .def_readonly("wm0", &SigmaWeights::wm0, "Mean weight of the centre point.")
       .def_readonly("wc0", &SigmaWeights::wc0, "Covariance weight of the centre point.")
-      .def_readonly("wi", &SigmaWeights::wi, "Weight of each of the 2n outer points.")
-      .def("__repr__", [](const SigmaWeights& w) {
-        return "SigmaWeights(gamma=" + float_repr(w.gamma) + ", wm0=" + float_repr(w.wm0) +
-               ", wc0=" + float_repr(w.wc0) + ", wi=" + float_repr(w.wi) + ")";
-      });
+      .def_readonly("wi", &SigmaWeights::wi, "Weight of each of the 2n outer points.");
 
   py::class_<SigmaScheme> sch(m, "SigmaScheme", "Sigma-point rule of the unscented transform.");
   py::enum_<SigmaScheme::Kind>(sch, "Kind")
@@ -206,15 +202,8 @@ void define_module(py::module_& m) {
              return a.kind == b.kind && a.alpha == b.alpha && a.beta == b.beta && a.kappa == b.kappa;
            })
       // Equal schemes hash alike (defining __eq__ alone leaves a pybind11 class unhashable).
-      .def("__hash__",
-           [](const SigmaScheme& s) {
-             return py::hash(py::make_tuple(static_cast<int>(s.kind), s.alpha, s.beta, s.kappa));
-           })
-      .def("__repr__", [](const SigmaScheme& s) {
-        // the constructor's form: eval() of it (names from nlosloc.core) gives an equal scheme
-        return "SigmaScheme(kind=SigmaScheme.Kind." + py::cast(s.kind).attr("name").cast<std::string>() +
-               ", alpha=" + float_repr(s.alpha) + ", beta=" + float_repr(s.beta) +
-               ", kappa=" + float_repr(s.kappa) + ")";
+      .def("__hash__", [](const SigmaScheme& s) {
+        return py::hash(py::make_tuple(static_cast<int>(s.kind), s.alpha, s.beta, s.kappa));
       });
 
   m.def(

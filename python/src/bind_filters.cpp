@@ -183,12 +183,7 @@ void define_module(py::module_& m) {
                     "log p(y_t | y_1:t-1, s), Gaussian predictive over the rows used (Huerta (III.2)).")
       .def_readonly("rows_used", &StepResult::rows_used, "Rows that were not NaN.")
       .def_readonly("status", &StepResult::status, "Worst Cholesky outcome of the step.")
-      .def_readonly("jitter", &StepResult::jitter, "Diagonal added by the Cholesky fallback, if any.")
-      .def("__repr__", [](const StepResult& r) {
-        return "StepResult(log_likelihood=" + float_repr(r.log_likelihood) +
-               ", rows_used=" + std::to_string(r.rows_used) + ", status=CholeskyStatus." +
-               py::cast(r.status).attr("name").cast<std::string>() + ", jitter=" + float_repr(r.jitter) + ")";
-      });
+      .def_readonly("jitter", &StepResult::jitter, "Diagonal added by the Cholesky fallback, if any.");
 
   {
     using A = AnyFilter<KfT>;
@@ -240,7 +235,7 @@ void define_module(py::module_& m) {
             });
           }),
           py::arg("motion"), py::arg("measurements"), py::arg("mean"), py::arg("cov"),
-          py::arg("scheme") = SigmaScheme::scaled(), py::arg("t0") = 0.0);
+          py::arg_v("scheme", SigmaScheme::scaled(), "SigmaScheme.scaled()"), py::arg("t0") = 0.0);
     common_methods<UkfT>(c);
     measurement_methods<UkfT>(c);
     sigma_methods<UkfT>(c);
@@ -257,7 +252,7 @@ void define_module(py::module_& m) {
             });
           }),
           py::arg("motion"), py::arg("measurements"), py::arg("mean"), py::arg("cov"),
-          py::arg("scheme") = SigmaScheme::scaled(), py::arg("t0") = 0.0);
+          py::arg_v("scheme", SigmaScheme::scaled(), "SigmaScheme.scaled()"), py::arg("t0") = 0.0);
     common_methods<UkfAugT>(c);
     measurement_methods<UkfAugT>(c);
     sigma_methods<UkfAugT>(c);

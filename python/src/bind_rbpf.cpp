@@ -238,7 +238,7 @@ void define_module(py::module_& m) {
            }),
            py::arg("variant") = RbpfVariant::kReordered, py::arg("num_particles") = 16,
            py::arg("max_offspring") = 4096, py::arg("merge") = true, py::arg("merge_threshold") = -1.0,
-           py::arg("threads") = 1, py::arg("scheme") = SigmaScheme::scaled(),
+           py::arg("threads") = 1, py::arg_v("scheme", SigmaScheme::scaled(), "SigmaScheme.scaled()"),
            py::arg("noise_form") = NoiseForm::kAdditive)
       .def_readwrite("variant", &RbpfOptions::variant)
       .def_readwrite("num_particles", &RbpfOptions::num_particles, "M, particles propagated (>= 1).")
@@ -469,7 +469,8 @@ void define_module(py::module_& m) {
             });
           }),
           py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
-          py::arg("cov"), py::arg("scheme") = SigmaScheme::scaled(), py::arg("t0") = 0.0);
+          py::arg("cov"), py::arg_v("scheme", SigmaScheme::scaled(), "SigmaScheme.scaled()"),
+          py::arg("t0") = 0.0);
     summary_methods<A>(c);
     bind::def_set_belief<A>(c);
     c.def(

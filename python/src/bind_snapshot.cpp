@@ -112,11 +112,7 @@ void define_module(py::module_& m) {
       .def("valid", &RowNoise::valid, "True when center is finite and both sigmas are finite > 0.")
       .def("log_pdf", &RowNoise::log_pdf, py::arg("r"), "log density of the residual r.")
       .def("normalized", &RowNoise::normalized, py::arg("r"),
-           "Normalised residual (r - center) / sigma, with sigma_left below the center, sigma_right above.")
-      .def("__repr__", [](const RowNoise& r) {
-        return "RowNoise(center=" + float_repr(r.center) + ", sigma_left=" + float_repr(r.sigma_left) +
-               ", sigma_right=" + float_repr(r.sigma_right) + ")";
-      });
+           "Normalised residual (r - center) / sigma, with sigma_left below the center, sigma_right above.");
 
   py::class_<GaussNewtonOptions>(m, "GaussNewtonOptions",
                                  "Options of the Gauss-Newton / Levenberg-Marquardt fix.")
