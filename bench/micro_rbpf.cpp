@@ -7,6 +7,8 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include "cpu_affinity.hpp"
@@ -62,22 +64,57 @@ BENCHMARK(BM_Rbpf)
 /// Runs the calling thread on `cpu` only, or (cpu < 0) on CPUs 0 and 1; false on failure.
 bool run_on(int cpu) { return cpu >= 0 ? bench::run_on_cpus({cpu}) : bench::run_on_cpus({0, 1}); }
 
-/// The 2-thread speed-up measured in lockstep (Linux, 2 CPUs): two 1-thread filters, one on CPU 0 and
-/// one on CPU 1, and a 2-thread filter (args: variant, M, noise form as BM_Rbpf, then steps per block)
-/// run the same track, a block of steps each in turn (the order rotating), each block timed. On a shared
-/// 2-vCPU host the time per step drifts by 2x within seconds and each vCPU on its own (an arithmetic loop
-/// pinned to one ran 85-188 ns per iteration, 2026-12-04), so whole benchmarks seconds apart misstate
-/// the ratio, and so does a 1-thread run on whichever vCPU the scheduler picked; blocks a few ms apart on
-/// both vCPUs see the same host. Counters: mean step of each (us) and speed-up = mean 1-thread time (of
-/// the two CPUs) / 2-thread time, over all blocks.
-void BM_RbpfPaired(benchmark::State& state) {
+/// Times three steppers in lockstep: j = 0 and 1 run on one thread, on CPU 0 and CPU 1; j = 2 on two
+/// threads, its calling thread on CPU 0 (its worker must have been created on CPU 1). Each runs a block of
+/// `block` steps in turn, the order rotating, each block timed; restart(j) (untimed) starts stepper j
+/// again and returns its first step index, called whenever the next block would pass `length`;
+/// step(j, i) runs step i of stepper j. Counters: mean step of each (us) and speed-up = mean 1-thread
+/// time (of the two CPUs) / 2-thread time, over all blocks.
+template <class Restart, class Step>
+void time_lockstep(benchmark::State& state, std::size_t block, std::size_t length, Restart&& restart,
+                   Step&& step) {
   using Clock = std::chrono::steady_clock;
+  const int cpu[3] = {0, 1, 0};
+  std::size_t k = length;
+  double sum[3] = {0.0, 0.0, 0.0};
+  long steps = 0, round = 0;
+  for (auto _ : state) {
+    if (k + block > length)
+      for (int j = 0; j < 3; ++j) {
+        run_on(cpu[j]);
+        k = restart(j);
+      }
+    for (int turn = 0; turn < 3; ++turn) {
+      const int j = static_cast<int>((round + turn) % 3);
+      run_on(cpu[j]);
+      const auto t0 = Clock::now();
+      for (std::size_t i = k; i < k + block; ++i) step(j, i);
+      sum[j] += std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+    }
+    ++round;
+    k += block;
+    steps += static_cast<long>(block);
+  }
+  run_on(-1);
+  const double n = static_cast<double>(steps);
+  state.counters["t1_cpu0_us"] = sum[0] / n;
+  state.counters["t1_cpu1_us"] = sum[1] / n;
+  state.counters["t2_us"] = sum[2] / n;
+  state.counters["speedup"] = 0.5 * (sum[0] + sum[1]) / sum[2];
+}
+
+/// The 2-thread speed-up measured in lockstep (Linux, 2 CPUs; time_lockstep): two 1-thread filters, one
+/// on CPU 0 and one on CPU 1, and a 2-thread filter (args: variant, M, noise form as BM_Rbpf, then steps
+/// per block) run the same track. On a shared 2-vCPU host the time per step drifts by 2x within seconds
+/// and each vCPU on its own (an arithmetic loop pinned to one ran 85-188 ns per iteration, 2026-12-04),
+/// so whole benchmarks seconds apart misstate the ratio, and so does a 1-thread run on whichever vCPU the
+/// scheduler picked; blocks a few ms apart on both vCPUs see the same host.
+void BM_RbpfPaired(benchmark::State& state) {
   const H2Model& h = model();
   rbpf::RbpfOptions opt;
   opt.variant = state.range(0) == 0 ? rbpf::RbpfVariant::kClassical : rbpf::RbpfVariant::kReordered;
   opt.num_particles = static_cast<int>(state.range(1));
   opt.noise_form = state.range(2) == 1 ? NoiseForm::kAugmented : NoiseForm::kAdditive;
-  const auto block = static_cast<std::size_t>(state.range(3));
   if (!run_on(-1) || !run_on(1) || !run_on(0)) {
     state.SkipWithError("needs CPUs 0 and 1");
     return;
@@ -94,42 +131,81 @@ void BM_RbpfPaired(benchmark::State& state) {
   opt.threads = 2;
   rbpf::Rbpf<ConstantVelocityClock2> f2(h.motion, h.st, h.proc, h.q, h.init, opt);
   rbpf::Rbpf<ConstantVelocityClock2>* f[3] = {&f0, &f1, &f2};
-  const int cpu[3] = {0, 1, 0};
-  constexpr std::size_t kWarm = 50;  // past the first (single-particle) steps, as BM_Rbpf
-  std::size_t k = h.y.size();
-  double sum[3] = {0.0, 0.0, 0.0};
-  long steps = 0, round = 0;
-  for (auto _ : state) {
-    if (k + block > h.y.size()) {  // (re)start the track, untimed by the counters
-      for (int j = 0; j < 3; ++j) {
-        run_on(cpu[j]);
+  time_lockstep(
+      state, static_cast<std::size_t>(state.range(3)), h.y.size(),
+      [&](int j) {
+        constexpr std::size_t kWarm = 50;  // past the first (single-particle) steps, as BM_Rbpf
         f[j]->reset(h.init);
-        for (k = 0; k < kWarm; ++k) f[j]->step(h.y[k], h.o[k]);
-      }
-    }
-    for (int turn = 0; turn < 3; ++turn) {
-      const int j = static_cast<int>((round + turn) % 3);
-      run_on(cpu[j]);
-      const auto t0 = Clock::now();
-      for (std::size_t i = k; i < k + block; ++i) benchmark::DoNotOptimize(f[j]->step(h.y[i], h.o[i]));
-      sum[j] += std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-    }
-    ++round;
-    k += block;
-    steps += static_cast<long>(block);
-  }
-  run_on(-1);
-  const double n = static_cast<double>(steps);
-  state.counters["t1_cpu0_us"] = sum[0] / n;
-  state.counters["t1_cpu1_us"] = sum[1] / n;
-  state.counters["t2_us"] = sum[2] / n;
-  state.counters["speedup"] = 0.5 * (sum[0] + sum[1]) / sum[2];
+        for (std::size_t i = 0; i < kWarm; ++i) f[j]->step(h.y[i], h.o[i]);
+        return kWarm;
+      },
+      [&](int j, std::size_t i) { benchmark::DoNotOptimize(f[j]->step(h.y[i], h.o[i])); });
 }
 BENCHMARK(BM_RbpfPaired)
     ->ArgNames({"reordered", "M", "augmented", "block"})
     ->Args({1, 128, 0, 64})
     ->Args({1, 128, 1, 16})
     ->Args({0, 2, 0, 64})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+/// The ceiling of the speed-up above on this host: a synthetic step of about the filter's length (110 us
+/// on one thread) whose work divides exactly in two, run as the filter runs its region: one pool hand-off,
+/// `phases` phases split by SpinBarrier rounds, the join (phases = 7: eight exchanges between the cores,
+/// as a reordered RBPF step that merges). Each phase updates a block of columns of 128 rows of
+/// arithmetic (sqrt, log1p: in-cache work as the UKF's), each thread half the rows. cross = 0: each
+/// thread keeps its half of the rows, so it only touches lines its own core wrote; cross = 1: the halves
+/// swap at every phase, so every line a thread reads was last written by the other core. Any shortfall
+/// from 2x here is the host's and the pool's, not the filter's.
+class SplitStep {
+ public:
+  static constexpr int kRows = 128, kCols = 147;  // 147 = 3 x 7 x 7 columns: 1, 3 or 7 phases
+  SplitStep(int threads, int phases, bool cross)
+      : pool_(threads), threads_(threads), phases_(phases), cross_(cross), x_(kRows * kCols, 0.5) {}
+  void step(std::size_t i) {
+    const int cols = kCols / phases_;
+    pool_.parallel_for(threads_, [&](int, int, int th) {
+      for (int p = 0; p < phases_; ++p) {
+        const int half = cross_ ? (th + p + static_cast<int>(i & 1)) % threads_ : th;
+        for (int r = kRows * half / threads_; r < kRows * (half + 1) / threads_; ++r)
+          for (double *v = &x_[static_cast<std::size_t>(r * kCols + p * cols)], *e = v + cols; v < e; ++v)
+            *v = 0.5 * (std::sqrt(*v * *v + 1.0) + 0.5 * std::log1p(std::fabs(*v))) + 0.1;
+        if (p + 1 < phases_) barrier_.arrive_and_wait(threads_);
+      }
+    });
+    benchmark::DoNotOptimize(x_.data());
+  }
+
+ private:
+  rbpf::ThreadPool pool_;
+  rbpf::SpinBarrier barrier_;
+  int threads_, phases_;
+  bool cross_;
+  std::vector<double> x_;
+};
+
+/// args: phases (1, 3 or 7), cross (0 or 1), steps per block. Counters as BM_RbpfPaired.
+void BM_SplitCeiling(benchmark::State& state) {
+  const auto phases = static_cast<int>(state.range(0));
+  const bool cross = state.range(1) == 1;
+  if (!run_on(-1) || !run_on(1) || !run_on(0)) {
+    state.SkipWithError("needs CPUs 0 and 1");
+    return;
+  }
+  SplitStep s0(1, phases, cross), s1(1, phases, cross);
+  run_on(1);  // the 2-thread step's worker on CPU 1, as BM_RbpfPaired's
+  SplitStep s2(2, phases, cross);
+  SplitStep* s[3] = {&s0, &s1, &s2};
+  time_lockstep(
+      state, static_cast<std::size_t>(state.range(2)), std::size_t{1} << 20,
+      [](int) { return std::size_t{0}; }, [&](int j, std::size_t i) { s[j]->step(i); });
+}
+BENCHMARK(BM_SplitCeiling)
+    ->ArgNames({"phases", "cross", "block"})
+    ->Args({1, 0, 64})
+    ->Args({3, 0, 64})
+    ->Args({7, 0, 64})
+    ->Args({7, 1, 64})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 #endif

@@ -9,8 +9,14 @@ host; its speed-up is the mean 1-thread time over the 2-thread time. --method pa
 on 1 thread and on 2 back to back (each --min-time seconds) and takes their ratio. Either way the
 median over rounds is the speed-up.
 
+--ceiling adds, in every round, BM_SplitCeiling in lockstep: a synthetic step of the same length and
+the same eight exchanges between the cores whose work divides exactly in two, with no line shared
+between the threads (the host's and the pool's ceiling for the filter's speed-up) and with every
+line from the other core (each phase updates the lines the other core updated last).
+
     python3 bench/tools/rbpf_speedup.py [--micro build/test/bench/nlosloc-micro] [--rounds 6]
         [--method lockstep|pairs] [--case reordered:1/M:128/augmented:0 ...] [--min-time 1]
+        [--ceiling]
 
 Standard library only. Prints one line per round and a summary per case.
 """
@@ -81,6 +87,20 @@ def lockstep(micro, case, min_time):
     return t1, b["t2_us"], b["speedup"]
 
 
+# BM_SplitCeiling's cases: 7 phases (eight exchanges, as a reordered step that merges), each core
+# keeping its lines (cross:0) or the halves swapped at every phase (cross:1)
+CEILING_CASES = {"no shared line": 0, "every line from the other core": 1}
+
+
+def ceiling(micro, min_time):
+    """{label: (1-thread us, 2-thread us, speed-up)} of BM_SplitCeiling's two cases."""
+    out = {}
+    for label, cross in CEILING_CASES.items():
+        b = run_micro(micro, f"BM_SplitCeiling/phases:7/cross:{cross}/block:64/real_time", min_time)
+        out[label] = (0.5 * (b["t1_cpu0_us"] + b["t1_cpu1_us"]), b["t2_us"], b["speedup"])
+    return out
+
+
 def time_per_step_us(micro, case, threads, min_time):
     """Real time per iteration (us) of BM_Rbpf/<case, threads:T>, from Google Benchmark's JSON."""
     parts = case.split("/")
@@ -98,6 +118,7 @@ def main():
         "--min-time", type=float, default=None, help="seconds per benchmark run (1; lockstep 4)"
     )
     ap.add_argument("--method", choices=["lockstep", "pairs"], default="lockstep")
+    ap.add_argument("--ceiling", action="store_true", help="also BM_SplitCeiling, each round")
     a = ap.parse_args()
     if a.rounds < 1:
         ap.error("--rounds: expected >= 1")
@@ -109,9 +130,14 @@ def main():
             parse_case(case)
         except ValueError as e:
             ap.error(str(e))
+    ceilings = {label: [] for label in CEILING_CASES}
     for case in a.case or DEFAULT_CASES:
         ratios, t1s, t2s = [], [], []
         for r in range(a.rounds):
+            if a.ceiling:
+                for label, (t1, t2, ratio) in ceiling(a.micro, min_time).items():
+                    ceilings[label].append(ratio)
+                    print(f"ceiling, {label}, round {r + 1}: {t1:.1f} / {t2:.1f} us = {ratio:.3f}")
             if a.method == "lockstep":
                 t1, t2, ratio = lockstep(a.micro, case, min_time)
             else:
@@ -127,6 +153,12 @@ def main():
             f"{case}: 1 thread {med1:.1f} us, 2 threads {med2:.1f} us, speed-up median {medr:.3f} "
             f"(min {min(ratios):.3f}, max {max(ratios):.3f}, {a.rounds} {a.method} rounds)"
         )
+    for label, v in ceilings.items():
+        if v:
+            print(
+                f"ceiling, {label}: speed-up median {statistics.median(v):.3f} "
+                f"(min {min(v):.3f}, max {max(v):.3f}, {len(v)} lockstep rounds)"
+            )
     return 0
 
 
