@@ -149,7 +149,7 @@ BENCHMARK(BM_RbpfPaired)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-/// The ceiling of the speed-up above on this host: a synthetic step of about the filter's length (110 us
+/// The ceiling of the speed-up above on this host: a synthetic step of about the filter's length (115 us
 /// on one thread) whose work divides exactly in two, run as the filter runs its region: one pool hand-off,
 /// `phases` phases split by SpinBarrier rounds, the join (phases = 7: eight exchanges between the cores,
 /// as a reordered RBPF step that merges). Each phase updates a block of columns of 128 rows of
@@ -188,6 +188,10 @@ class SplitStep {
 void BM_SplitCeiling(benchmark::State& state) {
   const auto phases = static_cast<int>(state.range(0));
   const bool cross = state.range(1) == 1;
+  if (phases < 1 || SplitStep::kCols % phases != 0) {
+    state.SkipWithError("phases: expected a divisor of 147 (1, 3, 7, ...)");
+    return;
+  }
   if (!run_on(-1) || !run_on(1) || !run_on(0)) {
     state.SkipWithError("needs CPUs 0 and 1");
     return;
