@@ -79,10 +79,11 @@ def _install_keywords(cls: type, names: list[str]) -> None:
                 f"{cls.__name__}(): takes its fields as keywords only, got {len(args)} "
                 f"positional argument{'s' if len(args) > 1 else ''}"
             )
-        construct(self)
-        for k, v in fields.items():
+        for k in fields:
             if k not in names:
                 raise TypeError(f"{cls.__name__}(): no field '{k}'; its fields: {', '.join(names)}")
+        construct(self)
+        for k, v in fields.items():
             setattr(self, k, v)
 
     __init__.__doc__ = (

@@ -1,6 +1,6 @@
-"""Reprs (nlosloc/_params.py and the extension's __repr__): parameters and options print as the
-constructor call that rebuilds them, floats as Python prints them (no digits lost), records as their
-fields; no signature shows a default as ``<... object at 0x...>``."""
+"""Reprs (nlosloc/_params.py): parameters and options print as the constructor call that rebuilds
+them, floats as Python prints them (no digits lost), records as their fields; no signature shows a
+default as ``<... object at 0x...>``."""
 
 from __future__ import annotations
 
@@ -92,7 +92,7 @@ def test_a_float_prints_every_digit_it_has() -> None:
     assert eval(repr(k2), namespace()).base.sigma_los == 0.1 + 0.2  # noqa: S307
 
 
-def test_the_extensions_own_reprs_keep_every_digit() -> None:
+def test_the_value_records_keep_every_digit() -> None:
     s = core.SigmaScheme(core.SigmaScheme.Kind.Huerta, 1e-4, 3.0, 0.0)
     assert repr(s) == "SigmaScheme(kind=SigmaScheme.Kind.Huerta, alpha=0.0001, beta=3.0, kappa=0.0)"
     assert eval(repr(s), namespace()) == s  # noqa: S307
@@ -163,7 +163,10 @@ def test_records_print_their_fields() -> None:
     assert "status=CholeskyStatus." in text
     fix = snapshot.LosSolver(_toa_stack()).solve(np.array([2.5, 9.0, 8.5]), np.array([1.0, 2.0]))
     assert repr(fix).startswith("Fix(theta=array([") and f"cost={fix.cost!r}" in repr(fix)
-    assert "object at 0x" not in repr(mitigation.QpResult) + repr(fix)
+    qp = mitigation.make_box_qp(2, solver="enumeration").solve(
+        np.eye(2), np.array([1.0, -1.0]), np.zeros(2), np.full(2, 5.0)
+    )
+    assert "object at 0x" not in repr(qp) + repr(fix)
 
 
 def test_no_signature_shows_an_object_address() -> None:
