@@ -60,6 +60,13 @@ def run_micro(micro, name, min_time):
     raise RuntimeError(f"no result for {name}; is it registered in {micro}?")
 
 
+def lockstep_result(micro, name, min_time):
+    """(1-thread us, the mean of its two CPUs; 2-thread us; speed-up) of a benchmark timed by
+    time_lockstep (bench/micro_rbpf.cpp), from its counters."""
+    b = run_micro(micro, name, min_time)
+    return 0.5 * (b["t1_cpu0_us"] + b["t1_cpu1_us"]), b["t2_us"], b["speedup"]
+
+
 def parse_case(case):
     """The key:value pairs of a --case; ValueError naming it unless reordered and M are there."""
     pairs = [p.split(":") for p in case.split("/")]
@@ -82,9 +89,7 @@ def lockstep(micro, case, min_time):
         f"BM_RbpfPaired/reordered:{parts['reordered']}/M:{parts['M']}/augmented:{aug}"
         f"/block:{PAIRED_BLOCK[aug]}/real_time"
     )
-    b = run_micro(micro, name, min_time)
-    t1 = 0.5 * (b["t1_cpu0_us"] + b["t1_cpu1_us"])
-    return t1, b["t2_us"], b["speedup"]
+    return lockstep_result(micro, name, min_time)
 
 
 # BM_SplitCeiling's cases: 7 phases (eight exchanges, as a reordered step that merges), each core
@@ -94,11 +99,12 @@ CEILING_CASES = {"no shared line": 0, "every line from the other core": 1}
 
 def ceiling(micro, min_time):
     """{label: (1-thread us, 2-thread us, speed-up)} of BM_SplitCeiling's two cases."""
-    out = {}
-    for label, cross in CEILING_CASES.items():
-        b = run_micro(micro, f"BM_SplitCeiling/phases:7/cross:{cross}/block:64/real_time", min_time)
-        out[label] = (0.5 * (b["t1_cpu0_us"] + b["t1_cpu1_us"]), b["t2_us"], b["speedup"])
-    return out
+    return {
+        label: lockstep_result(
+            micro, f"BM_SplitCeiling/phases:7/cross:{cross}/block:64/real_time", min_time
+        )
+        for label, cross in CEILING_CASES.items()
+    }
 
 
 def time_per_step_us(micro, case, threads, min_time):
