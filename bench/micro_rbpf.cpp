@@ -15,6 +15,7 @@
 #include "h2_micro_model.hpp"
 #include "nlosloc/rbpf/pf.hpp"
 #include "nlosloc/rbpf/rbpf.hpp"
+#include "nlosloc/rbpf/thread_pool.hpp"
 
 namespace {
 using namespace nlosloc;
@@ -68,11 +69,13 @@ bool run_on(int cpu) { return cpu >= 0 ? bench::run_on_cpus({cpu}) : bench::run_
 /// threads, its calling thread on CPU 0 (its worker must have been created on CPU 1). Each runs a block of
 /// `block` steps in turn, the order rotating, each block timed; restart(j) (untimed) starts stepper j
 /// again and returns its first step index, called whenever the next block would pass `length`;
-/// step(j, i) runs step i of stepper j. Counters: mean step of each (us) and speed-up = mean 1-thread
-/// time (of the two CPUs) / 2-thread time, over all blocks.
-template <class Restart, class Step>
-void time_lockstep(benchmark::State& state, std::size_t block, std::size_t length, Restart&& restart,
-                   Step&& step) {
+/// run_block(j, k, block) runs steps k to k + block - 1 of stepper j, which are `work2` steps of a
+/// 1-thread stepper for j = 2 (2 for two filters stepped at once). Counters: mean time of a 1-thread step
+/// of each (us; stepper 2's block time over block x work2) and speed-up = mean 1-thread time (of the two
+/// CPUs) / stepper 2's time, over all blocks.
+template <class Restart, class RunBlock>
+void time_lockstep_blocks(benchmark::State& state, std::size_t block, std::size_t length, int work2,
+                          Restart&& restart, RunBlock&& run_block) {
   using Clock = std::chrono::steady_clock;
   const int cpu[3] = {0, 1, 0};
   std::size_t k = length;
@@ -88,19 +91,61 @@ void time_lockstep(benchmark::State& state, std::size_t block, std::size_t lengt
       const int j = static_cast<int>((round + turn) % 3);
       run_on(cpu[j]);
       const auto t0 = Clock::now();
-      for (std::size_t i = k; i < k + block; ++i) step(j, i);
+      run_block(j, k, block);
       sum[j] += std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
     }
     ++round;
     k += block;
     steps += static_cast<long>(block);
   }
+  sum[2] /= work2;
   run_on(-1);
   const double n = static_cast<double>(steps);
   state.counters["t1_cpu0_us"] = sum[0] / n;
   state.counters["t1_cpu1_us"] = sum[1] / n;
   state.counters["t2_us"] = sum[2] / n;
   state.counters["speedup"] = 0.5 * (sum[0] + sum[1]) / sum[2];
+}
+
+/// time_lockstep_blocks where step(j, i) runs step i of stepper j (stepper 2: one 2-thread step).
+template <class Restart, class Step>
+void time_lockstep(benchmark::State& state, std::size_t block, std::size_t length, Restart&& restart,
+                   Step&& step) {
+  time_lockstep_blocks(state, block, length, 1, restart, [&](int j, std::size_t k, std::size_t n) {
+    for (std::size_t i = k; i < k + n; ++i) step(j, i);
+  });
+}
+
+/// The options of BM_RbpfPaired's and BM_RbpfConcurrent's filters (args: variant, M, noise form), on one
+/// thread.
+rbpf::RbpfOptions paired_options(const benchmark::State& state) {
+  rbpf::RbpfOptions opt;
+  opt.variant = state.range(0) == 0 ? rbpf::RbpfVariant::kClassical : rbpf::RbpfVariant::kReordered;
+  opt.num_particles = static_cast<int>(state.range(1));
+  opt.noise_form = state.range(2) == 1 ? NoiseForm::kAugmented : NoiseForm::kAdditive;
+  opt.threads = 1;
+  return opt;
+}
+
+/// BM_RbpfPaired's and BM_RbpfConcurrent's cases: rRBPF-128 additive and augmented, cRBPF-128 additive,
+/// with their steps per block (rbpf_speedup.py's PAIRED_BLOCK).
+void paired_cases(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"reordered", "M", "augmented", "block"})
+      ->Args({1, 128, 0, 64})
+      ->Args({1, 128, 1, 16})
+      ->Args({0, 2, 0, 64})
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime();
+}
+
+/// Restarts filter f on the H2 track and runs it past the first (single-particle) steps, as BM_Rbpf;
+/// returns the first step index to time.
+std::size_t warm_start(rbpf::Rbpf<ConstantVelocityClock2>& f) {
+  constexpr std::size_t kWarm = 50;
+  const H2Model& h = model();
+  f.reset(h.init);
+  for (std::size_t i = 0; i < kWarm; ++i) f.step(h.y[i], h.o[i]);
+  return kWarm;
 }
 
 /// The 2-thread speed-up measured in lockstep (Linux, 2 CPUs; time_lockstep): two 1-thread filters, one
@@ -111,15 +156,11 @@ void time_lockstep(benchmark::State& state, std::size_t block, std::size_t lengt
 /// scheduler picked; blocks a few ms apart on both vCPUs see the same host.
 void BM_RbpfPaired(benchmark::State& state) {
   const H2Model& h = model();
-  rbpf::RbpfOptions opt;
-  opt.variant = state.range(0) == 0 ? rbpf::RbpfVariant::kClassical : rbpf::RbpfVariant::kReordered;
-  opt.num_particles = static_cast<int>(state.range(1));
-  opt.noise_form = state.range(2) == 1 ? NoiseForm::kAugmented : NoiseForm::kAdditive;
+  rbpf::RbpfOptions opt = paired_options(state);
   if (!run_on(-1) || !run_on(1) || !run_on(0)) {
     state.SkipWithError("needs CPUs 0 and 1");
     return;
   }
-  opt.threads = 1;
   rbpf::Rbpf<ConstantVelocityClock2> f0(h.motion, h.st, h.proc, h.q, h.init, opt);
   rbpf::Rbpf<ConstantVelocityClock2> f1(h.motion, h.st, h.proc, h.q, h.init, opt);
   // The 2-thread filter's worker starts on CPU 1 and stays there (a thread inherits its creator's CPUs);
@@ -132,22 +173,51 @@ void BM_RbpfPaired(benchmark::State& state) {
   rbpf::Rbpf<ConstantVelocityClock2> f2(h.motion, h.st, h.proc, h.q, h.init, opt);
   rbpf::Rbpf<ConstantVelocityClock2>* f[3] = {&f0, &f1, &f2};
   time_lockstep(
-      state, static_cast<std::size_t>(state.range(3)), h.y.size(),
-      [&](int j) {
-        constexpr std::size_t kWarm = 50;  // past the first (single-particle) steps, as BM_Rbpf
-        f[j]->reset(h.init);
-        for (std::size_t i = 0; i < kWarm; ++i) f[j]->step(h.y[i], h.o[i]);
-        return kWarm;
-      },
+      state, static_cast<std::size_t>(state.range(3)), h.y.size(), [&](int j) { return warm_start(*f[j]); },
       [&](int j, std::size_t i) { benchmark::DoNotOptimize(f[j]->step(h.y[i], h.o[i])); });
 }
-BENCHMARK(BM_RbpfPaired)
-    ->ArgNames({"reordered", "M", "augmented", "block"})
-    ->Args({1, 128, 0, 64})
-    ->Args({1, 128, 1, 16})
-    ->Args({0, 2, 0, 64})
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_RbpfPaired)->Apply(paired_cases);
+
+/// The host's own ceiling for the filter's 2-thread speed-up: what two CPUs give when nothing passes
+/// between them. Args as BM_RbpfPaired. Stepper 2 is two independent 1-thread filters stepped at the same
+/// time, one on CPU 0 and one on CPU 1 (a 2-thread ThreadPool hands each its whole block: one hand-off and
+/// one join per block, no line shared); its time per step is the block's time over twice its steps, so
+/// speed-up = the throughput of both CPUs at once over that of one. A 2-thread filter cannot beat it: on a
+/// host whose CPUs slow each other down (SMT siblings, a busy host), it falls below 2 with no filter code.
+void BM_RbpfConcurrent(benchmark::State& state) {
+  const H2Model& h = model();
+  const rbpf::RbpfOptions opt = paired_options(state);
+  if (!run_on(-1) || !run_on(1) || !run_on(0)) {
+    state.SkipWithError("needs CPUs 0 and 1");
+    return;
+  }
+  rbpf::Rbpf<ConstantVelocityClock2> f0(h.motion, h.st, h.proc, h.q, h.init, opt);
+  rbpf::Rbpf<ConstantVelocityClock2> f1(h.motion, h.st, h.proc, h.q, h.init, opt);
+  rbpf::Rbpf<ConstantVelocityClock2> g0(h.motion, h.st, h.proc, h.q, h.init, opt);
+  rbpf::Rbpf<ConstantVelocityClock2> g1(h.motion, h.st, h.proc, h.q, h.init, opt);
+  run_on(1);  // the pool's worker stays on CPU 1 and steps g1; the calling thread steps g0 on CPU 0
+  rbpf::ThreadPool pool(2);
+  rbpf::Rbpf<ConstantVelocityClock2>* f[2] = {&f0, &f1};
+  rbpf::Rbpf<ConstantVelocityClock2>* g[2] = {&g0, &g1};
+  time_lockstep_blocks(
+      state, static_cast<std::size_t>(state.range(3)), h.y.size(), 2,
+      [&](int j) {
+        if (j < 2) return warm_start(*f[j]);
+        std::size_t k[2] = {0, 0};  // each of the pair warms on the CPU it then runs on
+        pool.parallel_for(2, [&](int, int, int th) { k[th] = warm_start(*g[th]); });
+        return k[0];
+      },
+      [&](int j, std::size_t k, std::size_t n) {
+        auto run = [&](rbpf::Rbpf<ConstantVelocityClock2>& filter) {
+          for (std::size_t i = k; i < k + n; ++i) benchmark::DoNotOptimize(filter.step(h.y[i], h.o[i]));
+        };
+        if (j < 2)
+          run(*f[j]);
+        else
+          pool.parallel_for(2, [&](int, int, int th) { run(*g[th]); });
+      });
+}
+BENCHMARK(BM_RbpfConcurrent)->Apply(paired_cases);
 
 /// The ceiling of the speed-up above on this host: a synthetic step of about the filter's length (115 us
 /// on one thread) whose work divides exactly in two, run as the filter runs its region: one pool hand-off,

@@ -14,9 +14,14 @@ the same eight exchanges between the cores whose work divides exactly in two, wi
 between the threads (the host's and the pool's ceiling for the filter's speed-up) and with every
 line from the other core (each phase updates the lines the other core updated last).
 
+--concurrent adds, in every round of each case, BM_RbpfConcurrent in lockstep: two 1-thread
+filters of that case stepped at the same time, one per CPU, against one alone. Nothing passes
+between them, so their throughput ratio is what the host's two CPUs give this filter's work: no
+2-thread filter can beat it (a host whose CPUs slow each other down caps it below 2).
+
     python3 bench/tools/rbpf_speedup.py [--micro build/test/bench/nlosloc-micro] [--rounds 6]
         [--method lockstep|pairs] [--case reordered:1/M:128/augmented:0 ...] [--min-time 1]
-        [--ceiling]
+        [--ceiling] [--concurrent]
 
 Standard library only. Prints one line per round and a summary per case.
 """
@@ -79,14 +84,15 @@ def parse_case(case):
     return parts
 
 
-def lockstep(micro, case, min_time):
-    """(1-thread us, 2-thread us, speed-up) of BM_RbpfPaired for a BM_Rbpf case."""
+def lockstep(micro, case, min_time, bench="BM_RbpfPaired"):
+    """(1-thread us, 2-thread us, speed-up) of BM_RbpfPaired (or BM_RbpfConcurrent: its "2-thread"
+    time is that of two 1-thread filters at once, per step of each) for a BM_Rbpf case."""
     parts = parse_case(case)
     aug = parts.get("augmented", "0")
     if aug not in PAIRED_BLOCK:
         raise ValueError(f"--case {case}: augmented must be 0 or 1")
     name = (
-        f"BM_RbpfPaired/reordered:{parts['reordered']}/M:{parts['M']}/augmented:{aug}"
+        f"{bench}/reordered:{parts['reordered']}/M:{parts['M']}/augmented:{aug}"
         f"/block:{PAIRED_BLOCK[aug]}/real_time"
     )
     return lockstep_result(micro, name, min_time)
@@ -125,6 +131,11 @@ def main():
     )
     ap.add_argument("--method", choices=["lockstep", "pairs"], default="lockstep")
     ap.add_argument("--ceiling", action="store_true", help="also BM_SplitCeiling, each round")
+    ap.add_argument(
+        "--concurrent",
+        action="store_true",
+        help="also BM_RbpfConcurrent (two 1-thread filters at once), each round of each case",
+    )
     a = ap.parse_args()
     if a.rounds < 1:
         ap.error("--rounds: expected >= 1")
@@ -138,8 +149,15 @@ def main():
             ap.error(str(e))
     ceilings = {label: [] for label in CEILING_CASES}
     for case in a.case or DEFAULT_CASES:
-        ratios, t1s, t2s = [], [], []
+        ratios, t1s, t2s, both = [], [], [], []
         for r in range(a.rounds):
+            if a.concurrent:
+                t1, t2, ratio = lockstep(a.micro, case, min_time, "BM_RbpfConcurrent")
+                both.append(ratio)
+                print(
+                    f"{case} round {r + 1}, two 1-thread filters at once: "
+                    f"{t1:.1f} / {t2:.1f} us = {ratio:.3f}"
+                )
             if a.ceiling:
                 for label, (t1, t2, ratio) in ceiling(a.micro, min_time).items():
                     ceilings[label].append(ratio)
@@ -159,6 +177,12 @@ def main():
             f"{case}: 1 thread {med1:.1f} us, 2 threads {med2:.1f} us, speed-up median {medr:.3f} "
             f"(min {min(ratios):.3f}, max {max(ratios):.3f}, {a.rounds} {a.method} rounds)"
         )
+        if both:
+            print(
+                f"{case}: two 1-thread filters at once, throughput ratio median "
+                f"{statistics.median(both):.3f} (min {min(both):.3f}, max {max(both):.3f}, "
+                f"{len(both)} lockstep rounds)"
+            )
     for label, v in ceilings.items():
         if v:
             print(
