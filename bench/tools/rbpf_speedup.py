@@ -156,7 +156,8 @@ def main():
                 both.append(ratio)
                 print(
                     f"{case} round {r + 1}, two 1-thread filters at once: "
-                    f"{t1:.1f} / {t2:.1f} us = {ratio:.3f}"
+                    f"{t1:.1f} / {t2:.1f} us = {ratio:.3f}",
+                    flush=True,
                 )
             if a.ceiling:
                 for label, (t1, t2, ratio) in ceiling(a.micro, min_time).items():
