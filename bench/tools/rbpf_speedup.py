@@ -16,8 +16,10 @@ line from the other core (each phase updates the lines the other core updated la
 
 --concurrent adds, in every round of each case, BM_RbpfConcurrent in lockstep: two 1-thread
 filters of that case stepped at the same time, one per CPU, against one alone. Nothing passes
-between them, so their throughput ratio is what the host's two CPUs give this filter's work: no
-2-thread filter can beat it (a host whose CPUs slow each other down caps it below 2).
+between them. With each thread's rate summed, their throughput ratio is what the host's two CPUs
+give this filter's work, which no 2-thread filter can beat (a host whose CPUs slow each other down
+caps it below 2); timed to each block's join, the slower of the pair sets it, as it would a split
+into fixed halves.
 
     python3 bench/tools/rbpf_speedup.py [--micro build/test/bench/nlosloc-micro] [--rounds 6]
         [--method lockstep|pairs] [--case reordered:1/M:128/augmented:0 ...] [--min-time 1]
@@ -84,23 +86,38 @@ def parse_case(case):
     return parts
 
 
-def lockstep(micro, case, min_time, bench="BM_RbpfPaired"):
-    """(1-thread us, 2-thread us, speed-up) of BM_RbpfPaired (or BM_RbpfConcurrent: its "2-thread"
-    time is that of two 1-thread filters at once, per step of each) for a BM_Rbpf case."""
+def paired_name(case, bench):
+    """The name of BM_RbpfPaired's (or BM_RbpfConcurrent's) run of a BM_Rbpf case."""
     parts = parse_case(case)
     aug = parts.get("augmented", "0")
     if aug not in PAIRED_BLOCK:
         raise ValueError(f"--case {case}: augmented must be 0 or 1")
-    name = (
+    return (
         f"{bench}/reordered:{parts['reordered']}/M:{parts['M']}/augmented:{aug}"
         f"/block:{PAIRED_BLOCK[aug]}/real_time"
     )
-    return lockstep_result(micro, name, min_time)
+
+
+def lockstep(micro, case, min_time):
+    """(1-thread us, 2-thread us, speed-up) of BM_RbpfPaired for a BM_Rbpf case."""
+    return lockstep_result(micro, paired_name(case, "BM_RbpfPaired"), min_time)
+
+
+def concurrent(micro, case, min_time):
+    """(1-thread us, speed-up of two 1-thread filters at once with their rates summed, and timed
+    to each block's join) of BM_RbpfConcurrent for a BM_Rbpf case."""
+    b = run_micro(micro, paired_name(case, "BM_RbpfConcurrent"), min_time)
+    return 0.5 * (b["t1_cpu0_us"] + b["t1_cpu1_us"]), b["speedup"], b["speedup_joined"]
 
 
 # BM_SplitCeiling's cases: 7 phases (eight exchanges, as a reordered step that merges), each core
 # keeping its lines (cross:0) or the halves swapped at every phase (cross:1)
 CEILING_CASES = {"no shared line": 0, "every line from the other core": 1}
+
+
+# BM_RbpfConcurrent's two measures of the pair: its rates summed (what the CPUs give), and its wall
+# time to each block's join (the slower of the two sets it)
+CONCURRENT_LABELS = ("rates summed", "to the join")
 
 
 def ceiling(micro, min_time):
@@ -149,14 +166,16 @@ def main():
             ap.error(str(e))
     ceilings = {label: [] for label in CEILING_CASES}
     for case in a.case or DEFAULT_CASES:
-        ratios, t1s, t2s, both = [], [], [], []
+        ratios, t1s, t2s = [], [], []
+        both = {label: [] for label in CONCURRENT_LABELS}
         for r in range(a.rounds):
             if a.concurrent:
-                t1, t2, ratio = lockstep(a.micro, case, min_time, "BM_RbpfConcurrent")
-                both.append(ratio)
+                t1, *pair = concurrent(a.micro, case, min_time)
+                for label, ratio in zip(CONCURRENT_LABELS, pair):
+                    both[label].append(ratio)
                 print(
-                    f"{case} round {r + 1}, two 1-thread filters at once: "
-                    f"{t1:.1f} / {t2:.1f} us = {ratio:.3f}",
+                    f"{case} round {r + 1}, two 1-thread filters at once ({t1:.1f} us alone): "
+                    + ", ".join(f"{lb} {x:.3f}" for lb, x in zip(CONCURRENT_LABELS, pair)),
                     flush=True,
                 )
             if a.ceiling:
@@ -178,12 +197,13 @@ def main():
             f"{case}: 1 thread {med1:.1f} us, 2 threads {med2:.1f} us, speed-up median {medr:.3f} "
             f"(min {min(ratios):.3f}, max {max(ratios):.3f}, {a.rounds} {a.method} rounds)"
         )
-        if both:
-            print(
-                f"{case}: two 1-thread filters at once, throughput ratio median "
-                f"{statistics.median(both):.3f} (min {min(both):.3f}, max {max(both):.3f}, "
-                f"{len(both)} lockstep rounds)"
-            )
+        for label, v in both.items():
+            if v:
+                print(
+                    f"{case}: two 1-thread filters at once, {label}, throughput ratio median "
+                    f"{statistics.median(v):.3f} (min {min(v):.3f}, max {max(v):.3f}, "
+                    f"{len(v)} lockstep rounds)"
+                )
     for label, v in ceilings.items():
         if v:
             print(
