@@ -67,11 +67,21 @@ def run_micro(micro, name, min_time):
     raise RuntimeError(f"no result for {name}; is it registered in {micro}?")
 
 
-def lockstep_result(micro, name, min_time):
-    """(1-thread us, the mean of its two CPUs; 2-thread us; speed-up) of a benchmark timed by
-    time_lockstep (bench/micro_rbpf.cpp), from its counters."""
+def lockstep_result(micro, name, min_time, *extra):
+    """(1-thread us, the mean of its two CPUs; 2-thread us; speed-up; then the counters named in
+    extra) of a benchmark timed by time_lockstep (bench/micro_rbpf.cpp), from its counters."""
     b = run_micro(micro, name, min_time)
-    return 0.5 * (b["t1_cpu0_us"] + b["t1_cpu1_us"]), b["t2_us"], b["speedup"]
+    return (0.5 * (b["t1_cpu0_us"] + b["t1_cpu1_us"]), b["t2_us"], b["speedup"]) + tuple(
+        b[key] for key in extra
+    )
+
+
+def spread(values, kind):
+    """A summary's "median (min, max, rounds)" of per-round ratios."""
+    return (
+        f"{statistics.median(values):.3f} (min {min(values):.3f}, max {max(values):.3f}, "
+        f"{len(values)} {kind} rounds)"
+    )
 
 
 def parse_case(case):
@@ -106,8 +116,9 @@ def lockstep(micro, case, min_time):
 def concurrent(micro, case, min_time):
     """(1-thread us, speed-up of two 1-thread filters at once with their rates summed, and timed
     to each block's join) of BM_RbpfConcurrent for a BM_Rbpf case."""
-    b = run_micro(micro, paired_name(case, "BM_RbpfConcurrent"), min_time)
-    return 0.5 * (b["t1_cpu0_us"] + b["t1_cpu1_us"]), b["speedup"], b["speedup_joined"]
+    name = paired_name(case, "BM_RbpfConcurrent")
+    t1, _, rates, joined = lockstep_result(micro, name, min_time, "speedup_joined")
+    return t1, rates, joined
 
 
 # BM_SplitCeiling's cases: 7 phases (eight exchanges, as a reordered step that merges), each core
@@ -192,24 +203,20 @@ def main():
             t2s.append(t2)
             ratios.append(ratio)
             print(f"{case} round {r + 1}: {t1:.1f} / {t2:.1f} us = {ratio:.3f}", flush=True)
-        med1, med2, medr = (statistics.median(v) for v in (t1s, t2s, ratios))
+        med1, med2 = (statistics.median(v) for v in (t1s, t2s))
         print(
-            f"{case}: 1 thread {med1:.1f} us, 2 threads {med2:.1f} us, speed-up median {medr:.3f} "
-            f"(min {min(ratios):.3f}, max {max(ratios):.3f}, {a.rounds} {a.method} rounds)"
+            f"{case}: 1 thread {med1:.1f} us, 2 threads {med2:.1f} us, speed-up median "
+            + spread(ratios, a.method)
         )
         for label, v in both.items():
             if v:
                 print(
                     f"{case}: two 1-thread filters at once, {label}, throughput ratio median "
-                    f"{statistics.median(v):.3f} (min {min(v):.3f}, max {max(v):.3f}, "
-                    f"{len(v)} lockstep rounds)"
+                    + spread(v, "lockstep")
                 )
     for label, v in ceilings.items():
         if v:
-            print(
-                f"ceiling, {label}: speed-up median {statistics.median(v):.3f} "
-                f"(min {min(v):.3f}, max {max(v):.3f}, {len(v)} lockstep rounds)"
-            )
+            print(f"ceiling, {label}: speed-up median " + spread(v, "lockstep"))
     return 0
 
 
