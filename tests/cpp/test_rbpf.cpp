@@ -424,6 +424,67 @@ TEST_CASE("children above a cut: the pruned search equals the filtered full enum
   }
 }
 
+TEST_CASE("impossible children (a -inf log factor) weigh -inf in every enumeration, never NaN",
+          "[rbpf][offspring]") {
+  // A zero transition probability or quality density gives a -inf factor; the odometer's running sum
+  // once turned every child after it into -inf - (-inf) = NaN.
+  MatX A(3, 2);
+  A << kNegInf, std::log(0.3), std::log(0.5), kNegInf, std::log(0.2), std::log(0.8);
+  auto reference = [](const MatX& F, std::uint64_t key) {
+    VecXi s(F.rows());
+    decode_situation(key, static_cast<int>(F.cols()), s);
+    double r = 0.0;
+    for (Eigen::Index b = 0; b < F.rows(); ++b) r += F(b, s(b));
+    return r;
+  };
+  std::vector<double> all;
+  enumerate_all(A, [&](std::uint64_t k, double s) {
+    CHECK(k == all.size());
+    all.push_back(s);
+    const double r = reference(A, k);
+    if (r == kNegInf)
+      CHECK(s == kNegInf);
+    else
+      CHECK_THAT(s, WithinAbs(r, 1e-12));
+  });
+  REQUIRE(all.size() == 8);
+  CHECK(std::count(all.begin(), all.end(), kNegInf) == 6);  // only s_0 = 1 and s_1 = 0 are possible
+  // best-first over all 8 and the pruned search: the same sums, -inf last / not emitted
+  std::vector<double> sorted = all;
+  std::sort(sorted.begin(), sorted.end(), std::greater<double>());
+  std::vector<double> best;
+  enumerate_best(A, 8, [&](std::uint64_t k, double s) {
+    best.push_back(s);
+    if (s == kNegInf) CHECK(reference(A, k) == kNegInf);
+  });
+  REQUIRE(best.size() == 8);
+  for (std::size_t i = 0; i < 8; ++i)
+    if (sorted[i] == kNegInf)
+      CHECK(best[i] == kNegInf);
+    else
+      CHECK_THAT(best[i], WithinAbs(sorted[i], 1e-12));
+  const std::uint64_t pow[3] = {1, 2, 4};
+  int opt[6];
+  std::vector<std::uint64_t> above;
+  enumerate_above(
+      A, 0.0, pow, opt, [] { return kNegInf; }, [&](std::uint64_t k, double) { above.push_back(k); });
+  std::sort(above.begin(), above.end());
+  CHECK(above == std::vector<std::uint64_t>{1, 5});  // the two possible vectors (base 2, anchor 0 first)
+  // a whole row impossible: every child is -inf, and the pruned search emits none
+  A.row(1).setConstant(kNegInf);
+  enumerate_all(A, [&](std::uint64_t, double s) { CHECK(s == kNegInf); });
+  int n = 0;
+  enumerate_best(A, 8, [&](std::uint64_t, double s) {
+    CHECK(s == kNegInf);
+    ++n;
+  });
+  CHECK(n == 8);
+  above.clear();
+  enumerate_above(
+      A, 0.0, pow, opt, [] { return kNegInf; }, [&](std::uint64_t k, double) { above.push_back(k); });
+  CHECK(above.empty());
+}
+
 namespace {
 /// Tiny case: B = 2 anchors, N_z = 2, 1-D-ish CV model in 2-D with two TOA rows.
 struct Tiny {
@@ -558,6 +619,42 @@ TEST_CASE("classical RBPF weights equal a brute-force enumeration (B=2, N_z=2, t
       kept = check_pruned_to_two(f, cand);
     }
   }
+}
+
+TEST_CASE("zero transition probabilities: the RBPF drops the impossible children, the limit of tiny ones",
+          "[rbpf]") {
+  // LOS is absorbing (T(0, 1) = 0): a LOS parent's NLOS children are impossible. With the full enumeration
+  // (the default max_offspring), a -inf factor once made the children NaN: a wrong estimate from the
+  // reordered step, NumericalError from the classical one. Reference: T(0, 1) = 1e-300 (those children
+  // weigh e^-690 and change no estimate).
+  Tiny z, e;
+  VecX pi(2);
+  pi << 0.9, 0.1;
+  z.T << 1.0, 0.0, 0.3, 0.7;
+  e.T << 1.0, 1e-300, 0.3, 0.7;
+  z.proc = si::SightProcess(si::SightModel::fixed(z.T, 1, pi), 2);
+  e.proc = si::SightProcess(si::SightModel::fixed(e.T, 1, pi), 2);
+  for (const RbpfVariant variant : {RbpfVariant::kClassical, RbpfVariant::kReordered})
+    for (const double d : {-1.0, 8.0})  // eq. (31)'s d_min, and a wide one: every parent has a neighbour
+      for (const int threads : {1, 2}) {
+        CAPTURE(static_cast<int>(variant), d, threads);
+        RbpfOptions opt;
+        opt.variant = variant;
+        opt.num_particles = 8;
+        opt.merge_threshold = d;
+        opt.threads = threads;
+        Rbpf<ConstantVelocity2> fz(z.motion, z.st, z.proc, z.q, z.g, opt);
+        Rbpf<ConstantVelocity2> fe(e.motion, e.st, e.proc, e.q, e.g, opt);
+        for (std::size_t k = 0; k < 3; ++k) {
+          fz.step(z.ys[k], z.os[k]);
+          fe.step(e.ys[k], e.os[k]);
+          for (int i = 0; i < fz.num_particles(); ++i) CHECK(std::isfinite(fz.log_weight(i)));
+          CHECK(fz.num_particles() <= fe.num_particles());
+          CHECK((fz.estimate() - fe.estimate()).cwiseAbs().maxCoeff() < 1e-9);
+          CHECK((fz.covariance() - fe.covariance()).cwiseAbs().maxCoeff() < 1e-9);
+          CHECK((fz.situation_probabilities() - fe.situation_probabilities()).cwiseAbs().maxCoeff() < 1e-12);
+        }
+      }
 }
 
 TEST_CASE(

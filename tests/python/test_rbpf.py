@@ -295,3 +295,22 @@ def test_pf_weights_are_each_particles_likelihood():
     lw = pf.log_weights
     np.testing.assert_array_equal(np.isfinite(lw), finite)
     np.testing.assert_allclose(lw[finite], hand[finite], rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("variant", [rbpf.RbpfVariant.Reordered, rbpf.RbpfVariant.Classical])
+def test_zero_transition_probabilities_drop_the_impossible_children(variant):
+    # NLOS absorbing (T[1, 0] = 0) for anchors 0-2, NLOS throughout the track: a -inf factor once
+    # turned the fully enumerated children into NaN (a wrong estimate, or NumericalError). Reference:
+    # T[1, 0] = 1e-300, whose LOS children weigh e^-690 at most and change no estimate here.
+    Y, Q_obs, S, _ = track(steps=30)
+    assert (S[:, :3] == 1).all()
+    other = situation.SightModel.fixed(np.array([[0.99, 0.01], [0.02, 0.98]]))
+    means = []
+    for p in (0.0, 1e-300):
+        nlos = situation.SightModel.fixed(np.array([[0.7, 0.3], [p, 1.0 - p]]))
+        sight = situation.SightProcess([nlos] * 3 + [other] * 3)
+        m = 16 if variant == rbpf.RbpfVariant.Reordered else 2
+        opt = rbpf.RbpfOptions(variant=variant, num_particles=m)
+        means.append(rbpf.Rbpf(MOTION, stack(), sight, QUALITY, X0, P0, opt).run(Y, Q_obs)["mean"])
+    assert np.isfinite(means[0]).all()
+    np.testing.assert_allclose(means[0], means[1], rtol=0, atol=1e-9)

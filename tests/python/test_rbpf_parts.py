@@ -43,6 +43,19 @@ def test_enumerations_against_brute_force() -> None:
     a[0, 1] = -np.inf
     keys, sums = rbpf.enumerate_best(a, 81)
     assert np.all(np.isinf(sums[54:])) and np.all(np.isfinite(sums[:54]))
+    # two ruled out, and a whole anchor: impossible vectors weigh -inf in both enumerations, never
+    # NaN (the full one's running sum once gave -inf - (-inf))
+    a[2, 0] = -np.inf
+    for rows in (a, np.vstack([a[:3], np.full((1, 3), -np.inf)])):
+        full = brute(rows)
+        keys, sums = rbpf.enumerate_offspring(rows, 81)
+        assert [int(k) for k in keys] == [k for k, _ in full]
+        np.testing.assert_allclose(sums, [v for _, v in full], rtol=0, atol=1e-12)
+        keys, sums = rbpf.enumerate_best(rows, 81)
+        assert not np.isnan(sums).any()
+        order = np.argsort(keys)
+        assert [int(k) for k in keys[order]] == [k for k, _ in full]
+        np.testing.assert_allclose(sums[order], [v for _, v in full], rtol=0, atol=1e-12)
 
 
 def test_enumeration_arguments_are_checked() -> None:

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -65,7 +66,10 @@ void add_situation_weight(std::uint64_t key, double w, Eigen::MatrixBase<D>& pro
 namespace detail {
 /// True when a log weight `x` computed in one summation order may reach `cut` computed in another: x is
 /// compared with a relative 1e-9 margin, so pruning by a bound never drops a child the exact order keeps.
-inline bool may_reach(double x, double cut) { return !(x + 1e-9 * (1.0 + std::abs(x)) < cut); }
+/// An impossible weight (-inf, or NaN) reaches nothing.
+inline bool may_reach(double x, double cut) {
+  return x > -std::numeric_limits<double>::infinity() && !(x + 1e-9 * (1.0 + std::abs(x)) < cut);
+}
 }  // namespace detail
 
 namespace detail {
@@ -82,27 +86,41 @@ inline void order_conditions(const MatX& A, int b, int* o) {
 }  // namespace detail
 
 /// Calls emit(key, sum_b A(b, s_b)) for every s in {0..N_z-1}^B (A is B x N_z, log factors), by an
-/// odometer that updates the running sum in O(1) amortised per child.
+/// odometer that updates the running sum in O(1) amortised per child. A factor of -inf (a zero transition
+/// probability or quality density) makes its children -inf: the running sum skips it and counts it
+/// instead, as -inf - (-inf) would turn every later child into NaN.
 template <class Emit>
 void enumerate_all(const MatX& A, Emit&& emit) {
   const int B = static_cast<int>(A.rows()), nz = static_cast<int>(A.cols());
+  constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+  auto finite_part = [](double a) { return a == kNegInf ? 0.0 : a; };
   std::uint64_t pow_b[64];
   pow_b[0] = 1;
   for (int b = 1; b < B && b < 64; ++b) pow_b[b] = pow_b[b - 1] * static_cast<std::uint64_t>(nz);
   int digit[64] = {0};
-  double sum = A.col(0).sum();
+  double sum = 0.0;
+  int impossible = 0;  // digits whose factor is -inf
+  for (int b = 0; b < B; ++b) {
+    sum += finite_part(A(b, 0));
+    impossible += A(b, 0) == kNegInf ? 1 : 0;
+  }
+  auto move = [&](int b, int to) {
+    const double from_a = A(b, digit[b]), to_a = A(b, to);
+    sum += finite_part(to_a) - finite_part(from_a);
+    impossible += (to_a == kNegInf ? 1 : 0) - (from_a == kNegInf ? 1 : 0);
+  };
   std::uint64_t key = 0;
   for (;;) {
-    emit(key, sum);
+    emit(key, impossible > 0 ? kNegInf : sum);
     int b = 0;
     while (b < B) {
       if (digit[b] + 1 < nz) {
-        sum += A(b, digit[b] + 1) - A(b, digit[b]);
+        move(b, digit[b] + 1);
         ++digit[b];
         key += pow_b[b];
         break;
       }
-      sum += A(b, 0) - A(b, digit[b]);
+      move(b, 0);
       key -= pow_b[b] * static_cast<std::uint64_t>(digit[b]);
       digit[b] = 0;
       ++b;
@@ -156,6 +174,7 @@ void enumerate_best(const MatX& A, std::uint64_t limit, BestFirstWorkspace& ws, 
     return a.sum != b.sum ? a.sum < b.sum : a.ranks > b.ranks;
   };
   ws.heap.clear();
+  constexpr double kNegInf = -std::numeric_limits<double>::infinity();
   double root = 0.0;
   for (int b = 0; b < B; ++b) root += A(b, opt(b, 0));
   ws.heap.push_back({root, 0, 0});
@@ -175,8 +194,9 @@ void enumerate_best(const MatX& A, std::uint64_t limit, BestFirstWorkspace& ws, 
     for (int b = it.last; b < B; ++b) {
       const int r = static_cast<int>((it.ranks / ws.power[static_cast<std::size_t>(b)]) % unz);
       if (r + 1 >= nz) continue;
-      ws.heap.push_back({it.sum - A(b, opt(b, r)) + A(b, opt(b, r + 1)),
-                         it.ranks + ws.power[static_cast<std::size_t>(b)], b});
+      // Options only get lighter along the tree: a -inf node's children are -inf (not -inf - (-inf)).
+      const double sum = it.sum == kNegInf ? kNegInf : it.sum - A(b, opt(b, r)) + A(b, opt(b, r + 1));
+      ws.heap.push_back({sum, it.ranks + ws.power[static_cast<std::size_t>(b)], b});
       std::push_heap(ws.heap.begin(), ws.heap.end(), lower);
     }
   }
