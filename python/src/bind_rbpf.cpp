@@ -479,7 +479,7 @@ void define_module(py::module_& m) {
            NLOSLOC_ENSURE(o.is_none() != sight.is_none(),
                           "o, sight: expected exactly one of the quality statistics o or a known sight");
            if (!o.is_none()) {
-             const auto ov = o.cast<VecX>();
+             const VecX ov = bind::to_vector(o, "o");
              return a.visit([&](auto& f) { return f.step_quality(y, ov); });
            }
            const VecXi s = bind::to_sight(sight);

@@ -62,6 +62,13 @@ void def_set_belief(Cls& c) {
       "Replaces the belief (validated: finite mean, symmetric positive definite cov).");
 }
 
+/// A complex array would be cast to its real part without a word (numpy only warns): refused, named.
+inline void reject_complex(const pybind11::handle& o, const char* name) {
+  namespace py = pybind11;
+  if (py::isinstance<py::array>(o) && py::reinterpret_borrow<py::array>(o).dtype().kind() == 'c')
+    throw std::invalid_argument(std::string(name) + ": expected real values, got a complex array");
+}
+
 /// Sight conditions (or any integer labels) from a 1-D or 2-D Python array, row-major (1-D: one row);
 /// *ndim receives the array's dimensions. Values must be integers (floats with integral values are
 /// accepted): an implicit cast would turn 0.5 into condition 0 without a word. The callee checks the
@@ -69,6 +76,7 @@ void def_set_belief(Cls& c) {
 inline Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> to_int_rows(
     const pybind11::handle& o, const char* name, int* ndim) {
   namespace py = pybind11;
+  reject_complex(o, name);
   const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
   if (!a || a.ndim() < 1 || a.ndim() > 2)
     throw std::invalid_argument(std::string(name) + ": expected an integer array of 1 or 2 dimensions");
@@ -88,6 +96,19 @@ inline Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> to_in
       out(r, c) = static_cast<int>(v);
     }
   return out;
+}
+
+/// A float vector from a Python object (a 1-D array or sequence of numbers), or std::invalid_argument
+/// naming it: pybind11's own cast would raise a bare RuntimeError. The callee checks the size and values.
+inline VecX to_vector(const pybind11::handle& o, const char* name) {
+  namespace py = pybind11;
+  reject_complex(o, name);
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
+  if (!a || a.ndim() != 1)
+    throw std::invalid_argument(std::string(name) + ": expected a 1-D float array, got " +
+                                (a ? std::to_string(a.ndim()) + " dimensions"
+                                   : std::string(py::str(py::type::of(o).attr("__name__")))));
+  return Eigen::Map<const VecX>(a.data(), a.shape(0));
 }
 
 /// A (B,) vector of sight conditions (to_int_rows; a 1-D array required).

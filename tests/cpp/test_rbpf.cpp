@@ -11,6 +11,7 @@
 #include <set>
 #include <thread>
 
+#include "nlosloc/filters/iukf.hpp"
 #include "nlosloc/filters/ukf.hpp"
 #include "nlosloc/rbpf/pf.hpp"
 #include "nlosloc/rbpf/rbpf.hpp"
@@ -1192,6 +1193,53 @@ TEST_CASE("reordered RBPF: a step that throws leaves the filter as it was", "[rb
       CHECK(f.estimate() == twin.estimate());
     }
   }
+}
+
+TEST_CASE("an overflowed state: NumericalError, the filter unchanged, no random draw spent", "[rbpf][pf]") {
+  // Finite, so the filters take it, but eq. (10)'s transversal speed overflows to NaN. That was a
+  // std::invalid_argument naming an internal "w" or "speeds"; the joint PF's generic sight path threw it
+  // from inside its pass, after the generators had drawn.
+  H2Like h;
+  std::vector<VecX> y, o;
+  std::vector<Vec<6>> truth;
+  h.simulate(3, 2, y, o, truth);
+  Gaussian<6> huge = h.g;
+  huge.mean << 1e160, 1e160, 0, 1e160, 1e160, 0;
+  for (const int threads : {1, 2}) {
+    RbpfOptions opt;
+    opt.num_particles = 16;
+    opt.threads = threads;
+    Rbpf<ConstantVelocityClock2> f(h.motion, h.st, h.proc, h.q, huge, opt);
+    CHECK_THROWS_AS(f.step(y[0], o[0]), NumericalError);
+    CHECK_THROWS_WITH(f.step(y[0], o[0]),
+                      Catch::Matchers::StartsWith("Rbpf.step: the transversal speed (eq. 10)"));
+    CHECK(f.step_index() == 0);
+    CHECK(f.estimate() == huge.mean);
+    // generic sight path: one chain is fixed
+    std::vector<si::SightModel> models(5, si::SightModel::speed_dependent(10, 10, 0.01));
+    MatX T(2, 2);
+    T << 0.99, 0.01, 0.02, 0.98;
+    models.push_back(si::SightModel::fixed(T));
+    PfOptions po;
+    po.num_particles = 500;
+    po.threads = threads;
+    ParticleFilter<ConstantVelocityClock2> pf(h.motion, h.st, si::SightProcess(models), h.q, huge, po);
+    ParticleFilter<ConstantVelocityClock2> twin(h.motion, h.st, si::SightProcess(models), h.q, huge, po);
+    CHECK_THROWS_AS(pf.step(y[0], o[0]), NumericalError);  // every particle: zero likelihood
+    pf.reset(h.g);
+    twin.reset(h.g);
+    for (std::size_t k = 0; k < y.size(); ++k) {
+      pf.step(y[k], o[k]);
+      twin.step(y[k], o[k]);
+      CHECK(pf.estimate() == twin.estimate());
+    }
+  }
+  Iukf<ConstantVelocityClock2> iukf(h.motion, h.st, huge, si::ForwardFilter(h.proc, h.q));
+  CHECK_THROWS_AS(iukf.step_quality(y[0], o[0]), NumericalError);
+  CHECK_THROWS_WITH(iukf.step_quality(y[0], o[0]),
+                    Catch::Matchers::StartsWith("Iukf.step: the transversal speed (eq. 10)"));
+  CHECK(iukf.mean() == huge.mean);
+  CHECK(iukf.time() == 0.0);
 }
 
 TEST_CASE("reordered RBPF: children tied at the cut are kept by index alike on 1, 2 and 3 threads",

@@ -62,6 +62,10 @@ def test_sight_arguments_must_be_integers():
     q = situation.QualityModel([noise.Beta(4.0, 1.5), noise.Beta(1.5, 4.0)])
     with pytest.raises(ValueError, match="^s: expected integers"):
         q.log_likelihood(np.array([0.5, 0.5]), np.array([0.0, 0.9]))
+    # complex labels were cast to their real part (numpy only warned)
+    with pytest.raises(ValueError, match="^sight: expected real values, got a complex array$"):
+        f.step(Y3, sight=np.array([0, 1j, 0]))
+    assert f.time == pytest.approx(MOTION.dt)
 
 
 def test_layout_indices_are_checked_and_the_layout_is_a_copy():
@@ -374,3 +378,73 @@ def test_heavy_tailed_noise_is_refused_by_the_additive_filters_only() -> None:
         models.ConstantVelocity2(10.0, 1e308)
     with pytest.raises(ValueError, match="spread too large"):
         noise.Empirical(np.array([0.0, 1e200, -1e200]))
+
+
+# Finite, so reset and set_belief take it, but eq. (10)'s transversal speed overflows to NaN.
+HUGE6 = np.array([1e160, 1e160, 0.0, 1e160, 1e160, 0.0])
+OVERFLOW = r"the transversal speed \(eq. 10\) w.r.t. anchor 0 is -?nan: the state is not finite"
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_an_overflowed_state_is_a_numerical_error_that_changes_nothing(threads):
+    # It was a ValueError naming an internal quantity ("w", "speeds"), though check_inputs passed.
+    Y, Q, _, _ = track(steps=4)
+    names = ("estimate", "covariance", "situation_probabilities", "time", "step_index")
+    for variant, m in ((rbpf.RbpfVariant.Reordered, 16), (rbpf.RbpfVariant.Classical, 4)):
+        opt = rbpf.RbpfOptions(variant=variant, num_particles=m, threads=threads)
+        f = rbpf.Rbpf(MOTION6, stack6(), SIGHT, QUALITY, HUGE6, P06, opt)
+        before = state(f, names)
+        f.check_inputs(Y[0], Q[0])
+        with pytest.raises(core.NumericalError, match=rf"^Rbpf.step: {OVERFLOW}"):
+            f.step(Y[0], Q[0])
+        assert_same(before, state(f, names))
+        msg = rf"^step 0 \(the filter holds step -1\): Rbpf.step: {OVERFLOW}"
+        with pytest.raises(core.NumericalError, match=msg):
+            f.run(Y, Q)
+        assert_same(before, state(f, names))
+    f = rbpf.Iukf(MOTION6, stack6(), SIGHT, QUALITY, X06, P06)
+    f.step(Y[0], Q[0])
+    f.set_belief(HUGE6, P06)
+    before = state(f, ("mean", "cov", "time"))
+    with pytest.raises(core.NumericalError, match=rf"^Iukf.step: {OVERFLOW}"):
+        f.step(Y[1], Q[1])
+    assert_same(before, state(f, ("mean", "cov", "time")))
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("generic", [False, True], ids=["fast sight", "generic sight"])
+def test_a_rejected_pf_step_draws_nothing(threads, generic):
+    # An overflowed state gives every particle zero likelihood. On the generic sight path (not every
+    # chain speed-dependent) its NaN speed was a ValueError thrown from inside the pass, which had
+    # already advanced the generators: the next step then differed from a twin's.
+    Y, Q, _, _ = track(steps=3)
+    sd = situation.SightModel.speed_dependent(10.0, 10.0, 0.01)
+    fixed = situation.SightModel.fixed(np.array([[0.99, 0.01], [0.02, 0.98]]))
+    sight = situation.SightProcess([sd] * 5 + [fixed]) if generic else SIGHT
+    opt = rbpf.PfOptions(num_particles=500, threads=threads, seed=1)
+    f = rbpf.ParticleFilter(MOTION6, stack6(), sight, QUALITY, HUGE6, P06, opt)
+    twin = rbpf.ParticleFilter(MOTION6, stack6(), sight, QUALITY, HUGE6, P06, opt)
+    fields = ("particles", "situations", "log_weights", "estimate", "covariance", "generators")
+    before = [np.asarray(getattr(f.save(), n)) for n in fields]
+    with pytest.raises(core.NumericalError, match="every particle has zero likelihood"):
+        f.step(Y[0], Q[0])
+    assert_same(before, [np.asarray(getattr(f.save(), n)) for n in fields])
+    assert (f.time, f.step_index) == (0.0, 0)
+    for g in (f, twin):
+        g.reset(X06, P06)
+    for k in range(3):
+        f.step(Y[k], Q[k])
+        twin.step(Y[k], Q[k])
+        np.testing.assert_array_equal(f.estimate, twin.estimate)
+
+
+def test_iukf_step_names_a_misshaped_o():
+    Y, Q, _, _ = track(steps=1)
+    f = rbpf.Iukf(MOTION6, stack6(), SIGHT, QUALITY, X06, P06)
+    with pytest.raises(ValueError, match=r"^o: expected a 1-D float array, got 2 dimensions$"):
+        f.step(Y[0], Q[0].reshape(2, 3))
+    with pytest.raises(ValueError, match=r"^o: expected a 1-D float array, got list$"):
+        f.step(Y[0], ["a"] * 6)
+    with pytest.raises(ValueError, match=r"^o: expected shape \(6, 1\), got \(5, 1\)$"):
+        f.step(Y[0], Q[0][:5])
+    assert f.time == 0.0

@@ -77,8 +77,9 @@ class Iukf : public FilterBase<Iukf<Motion, Meas>, Motion> {
     try {
       if (fwd_.process().speed_dependent()) {  // eq. (10) at the predicted mean (the paper does not say)
         const auto& L = meas_.layout();
-        situation::transversal_speeds(this->x_.segment(L.position, L.space_dim),
-                                      this->x_.segment(L.velocity, L.space_dim), meas_.anchors(), speeds_);
+        situation::detail::state_transversal_speeds(this->x_.segment(L.position, L.space_dim),
+                                                    this->x_.segment(L.velocity, L.space_dim),
+                                                    meas_.anchors(), speeds_, "Iukf.step");
       }
       fwd_.step(o, speeds_);  // eqs. (36)-(38)
       return update_mixture(y, fwd_.probabilities());

@@ -450,7 +450,12 @@ class ParticleFilter {
     std::fill(cend_.begin(), cend_.end(), 0);
     // The pass writes the moved states, situations and log weights into nx_, ns_, nlogw_: the particles
     // stay as they were until the step is accepted.
-    pool_->parallel_for(M_, [&](int b0, int e0, int th) { propagate_weight(b0, e0, th, k, t, speed); });
+    try {
+      pool_->parallel_for(M_, [&](int b0, int e0, int th) { propagate_weight(b0, e0, th, k, t, speed); });
+    } catch (...) {
+      brng_ = brng_back_;  // a rejected step draws nothing: the filter is unchanged, generators included
+      throw;
+    }
     PfStepInfo info;
     // Incremental weights were added to the normalised log weights: their log-sum-exp is log p(y, o | past).
     const double z = reduce(info.ess);
@@ -809,9 +814,15 @@ class ParticleFilter {
         const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>> pm(p, L.space_dim),
             vm(v, L.space_dim);
         const double sp = situation::transversal_speed(pm, vm, meas_.anchors().row(b).transpose());
-        sight_.model(b).transition(k, sp, w.T);  // eqs. (15)-(18) or (16)
-        double c = 0.0;
-        while (nj < nz_ - 1 && u >= (c += w.T(sb, nj))) ++nj;
+        if (std::isfinite(sp)) {
+          sight_.model(b).transition(k, sp, w.T);  // eqs. (15)-(18) or (16)
+          double c = 0.0;
+          while (nj < nz_ - 1 && u >= (c += w.T(sb, nj))) ++nj;
+        } else {
+          // An overflowed state has no speed: the chain stays, as on the fast path (whose switch test is
+          // false for NaN), and the particle's likelihood decides (weight 0 for a state that is not finite).
+          nj = sb;
+        }
       } else {
         while (nj < nz_ - 1 && u >= cum_[cidx(b, sb, nj)]) ++nj;
       }

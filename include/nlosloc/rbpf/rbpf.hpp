@@ -548,8 +548,9 @@ class Rbpf {
     if (sight_.speed_dependent()) {
       const auto& L = meas_.layout();
       const State& x = mean_[static_cast<std::size_t>(p)];
-      situation::transversal_speeds(x.segment(L.position, L.space_dim), x.segment(L.velocity, L.space_dim),
-                                    meas_.anchors(), w.speeds);
+      situation::detail::state_transversal_speeds(x.segment(L.position, L.space_dim),
+                                                  x.segment(L.velocity, L.space_dim), meas_.anchors(),
+                                                  w.speeds, "Rbpf.step");
     }
     const std::uint64_t key = key_[static_cast<std::size_t>(p)];
     std::uint64_t rest = key;

@@ -88,6 +88,21 @@ void transversal_speeds(const Eigen::MatrixBase<DP>& p, const Eigen::MatrixBase<
     out(b) = transversal_speed(p, v, anchors.row(b).transpose());
 }
 
+namespace detail {
+/// transversal_speeds at a filter's own state (eq. 10): a speed that is not finite means the state has
+/// overflowed, a numerical failure of the filter (NumericalError naming `who`), not a bad argument.
+template <class DP, class DV>
+void state_transversal_speeds(const Eigen::MatrixBase<DP>& p, const Eigen::MatrixBase<DV>& v,
+                              const MatX& anchors, Eigen::Ref<VecX> out, const char* who) {
+  transversal_speeds(p, v, anchors, out);
+  for (Eigen::Index b = 0; b < out.size(); ++b)
+    if (!std::isfinite(out(b)))
+      nlosloc::detail::throw_numerical_error(
+          std::string(who) + ": the transversal speed (eq. 10) w.r.t. anchor " + std::to_string(b) + " is " +
+          std::to_string(out(b)) + ": the state is not finite or has overflowed (the filter is unchanged)");
+}
+}  // namespace detail
+
 /// Which form of the speed-dependent two-state chain to use.
 enum class SpeedModel {
   kSingle = 0,      ///< Huerta eq. (15): at most one change per interval (valid for w dt << E{L})
