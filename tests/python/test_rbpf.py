@@ -300,8 +300,8 @@ def test_pf_weights_are_each_particles_likelihood():
 @pytest.mark.parametrize("variant", [rbpf.RbpfVariant.Reordered, rbpf.RbpfVariant.Classical])
 def test_zero_transition_probabilities_drop_the_impossible_children(variant):
     # NLOS absorbing (T[1, 0] = 0) for anchors 0-2, NLOS throughout the track: a -inf factor once
-    # turned the fully enumerated children into NaN (a wrong estimate, or NumericalError). Reference:
-    # T[1, 0] = 1e-300, whose LOS children weigh e^-690 at most and change no estimate here.
+    # turned the fully enumerated children into NaN (a wrong estimate, or NumericalError).
+    # Reference: T[1, 0] = 1e-300, whose LOS children weigh e^-690 at most and change no estimate.
     Y, Q_obs, S, _ = track(steps=30)
     assert (S[:, :3] == 1).all()
     other = situation.SightModel.fixed(np.array([[0.99, 0.01], [0.02, 0.98]]))
