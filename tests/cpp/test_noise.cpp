@@ -406,6 +406,17 @@ TEST_CASE("Beta: Grisales quality statistics", "[noise]") {
   }
   check_moments_by_integration(b23);
   check_moments_by_integration(Beta(1.5, 4.0), 1e-5);
+  // Far tails, where Boost's inversion threw or missed by a factor 2 (p below ~1e-100): the leading term
+  // of DLMF 8.17.8, x = (p a B(a, b))^(1/a), checked through the cdf too.
+  const double log_b = std::lgamma(4.0) + std::lgamma(1.5) - std::lgamma(5.5);
+  for (const double p : {1e-100, 1e-120, 1e-300}) {
+    const double x = los.quantile(p);
+    CHECK_THAT(x, WithinRel(std::exp((std::log(p) + std::log(4.0) + log_b) / 4.0), 1e-13));
+    CHECK_THAT(los.cdf(x), WithinRel(p, 1e-12));
+  }
+  CHECK_THAT(Beta(2.0, 5.0).quantile(1e-100), WithinRel(2.5819888974716112e-51, 1e-13));
+  CHECK_THAT(los.cdf(los.from_standard_normal(-30.0)), WithinRel(4.906713927147908e-198, 1e-10));  // Phi(-30)
+  CHECK(Beta(1.5, 4.0).from_standard_normal(30.0) == 1.0);  // 1 - y, y ~ 1e-50
 }
 
 TEST_CASE("Empirical: Silverman Gaussian KDE as scipy", "[noise]") {
@@ -425,8 +436,12 @@ TEST_CASE("Empirical: Silverman Gaussian KDE as scipy", "[noise]") {
   CHECK_THAT(e4.variance(), WithinRel(1.25 + 1.0363349000019686 * 1.0363349000019686, 1e-14));
   // Symmetric samples: median at the centre.
   CHECK_THAT(e4.quantile(0.5), WithinAbs(1.5, 1e-12));
-  // Far tail log density stays finite (log-sum-exp).
+  // Far tail log density stays finite (log-sum-exp), and is -inf once (x - s_i)^2 overflows (it was NaN).
   CHECK(std::isfinite(e4.log_pdf(200.0)));
+  CHECK(std::isfinite(e4.log_pdf(1e154)));
+  CHECK(e4.log_pdf(1e300) == -kInf);
+  CHECK(e4.log_pdf(-1e300) == -kInf);
+  CHECK(e4.pdf(1e155) == 0.0);
 
   const Empirical e(kde_samples());
   check_common(e);

@@ -127,6 +127,32 @@ TEST_CASE("forward filter against a hand calculation (eqs. 36-38)", "[situation]
   CHECK_THROWS_AS(f.update(VecX::Zero(2)), std::invalid_argument);
 }
 
+TEST_CASE("forward filter: a statistic far out under the only predicted condition is possible",
+          "[situation]") {
+  // The normalisation of eqs. (37)-(38) took the largest log p(o | k) alone: when the only predicted
+  // condition's density lay over ~745 nats below another's, the sum underflowed to 0 and update()
+  // refused the statistic as impossible.
+  const QualityModel q({nn::Normal(0.0, 1.0), nn::Normal(50.0, 1.0)});
+  VecX pi(2);
+  pi << 1.0, 0.0;
+  ForwardFilter f(SightProcess(SightModel::fixed(MatX::Identity(2, 2), 1, pi), 1), q);
+  VecX o(1);
+  o << 40.0;
+  CHECK_THAT(f.step(o), WithinRel(-800.0 - 0.91893853320467274, 1e-14));  // log N(40; 0, 1)
+  CHECK(f.probabilities()(0, 0) == 1.0);
+  CHECK(f.probabilities()(0, 1) == 0.0);
+  // Reached from a regular chain: K_sight = 10 keeps T = I between its change epochs.
+  MatX T(2, 2);
+  T << 0.9, 0.1, 0.1, 0.9;
+  ForwardFilter g(SightProcess(SightModel::fixed(T, 10), 1), q);
+  o << 50.0;
+  g.step(o);  // LOS's density e^-1250 of NLOS's: P(NLOS) = 1
+  CHECK(g.probabilities()(0, 1) == 1.0);
+  o << 5.0;
+  CHECK_THAT(g.step(o), WithinRel(-1012.5 - 0.91893853320467274, 1e-14));  // log N(5; 50, 1)
+  CHECK(g.probabilities()(0, 1) == 1.0);
+}
+
 namespace {
 /// Two speed-dependent anchors with Beta quality statistics, after one step.
 struct TwoAnchors {

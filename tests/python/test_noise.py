@@ -351,6 +351,25 @@ def test_nan_and_support_conventions() -> None:
     assert nn.Rayleigh(1.0).log_pdf(-1.0) == -np.inf
     assert nn.Beta(2.0, 3.0).log_pdf(1.5) == -np.inf
     assert nn.Exponential(1.0).log_pdf(-1e-9) == -np.inf
+    # the KDE's (x - s_i)^2 overflows far out: density 0, not NaN
+    kde = nn.Empirical(KDE_SAMPLES)
+    np.testing.assert_array_equal(kde.log_pdf(np.array([1e300, -1e300])), -np.inf)
+    assert kde.pdf(1e155) == 0.0
+
+
+def test_beta_far_tails() -> None:
+    # Below p ~ 1e-100 Boost's inversion threw (RuntimeError) or missed by a factor 2, and scipy's
+    # betaincinv gives NaN: the leading term of DLMF 8.17.8, (p a B(a, b))^(1/a), and the cdf
+    # decide.
+    los = nn.Beta(4.0, 1.5)
+    for p in (1e-100, 1e-120, 1e-300):
+        x = los.quantile(p)
+        assert x == pytest.approx((p * 4.0 * special.beta(4.0, 1.5)) ** 0.25, rel=1e-13)
+        assert los.cdf(x) == pytest.approx(p, rel=1e-12)
+    ref = special.betaincinv(2, 5, 1e-100)
+    assert nn.Beta(2.0, 5.0).quantile(1e-100) == pytest.approx(ref, rel=1e-13)
+    assert los.cdf(los.from_standard_normal(-30.0)) == pytest.approx(special.ndtr(-30.0), rel=1e-10)
+    assert nn.Beta(1.5, 4.0).from_standard_normal(30.0) == 1.0
 
 
 def test_distribution_wraps_every_class() -> None:

@@ -105,6 +105,18 @@ def test_forward_filter_hand_calculation():
         f.restore(other.save())
 
 
+def test_forward_filter_far_statistic_under_the_only_predicted_condition():
+    # eqs. (37)-(38) were normalised by the largest log p(o | k) alone: the sum underflowed to 0 and
+    # the statistic was refused as impossible. K_sight = 10 keeps T = I between change epochs.
+    q = situation.QualityModel([noise.Normal(0.0, 1.0), noise.Normal(50.0, 1.0)])
+    chain = situation.SightModel.fixed(np.array([[0.9, 0.1], [0.1, 0.9]]), 10)
+    f = situation.ForwardFilter(situation.SightProcess(chain, 1), q)
+    f.step(np.array([50.0]))
+    assert f.probabilities[0, 1] == 1.0
+    assert f.step(np.array([5.0])) == pytest.approx(noise.Normal(50.0, 1.0).log_pdf(5.0), rel=1e-14)
+    assert f.probabilities[0, 1] == 1.0
+
+
 def test_quality_model_empirical():
     rng = np.random.default_rng(1)
     qm = situation.QualityModel([noise.Empirical(rng.beta(4, 1.5, 400)), noise.Beta(1.5, 4.0)])

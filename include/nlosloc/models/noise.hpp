@@ -772,9 +772,23 @@ class Beta : public detail::DistributionBase<Beta> {
   boost::math::beta_distribution<double, detail::Policy> dist() const {
     return boost::math::beta_distribution<double, detail::Policy>(a_, b_);
   }
-  double quantile_lower_(double p) const { return p <= 0.0 ? 0.0 : boost::math::quantile(dist(), p); }
+  /// Root y of I_y(a, b) = p in the far tail, or NaN when it is not there: I_y(a, b) = y^a / (a B(a, b))
+  /// (1 + O((a + b) y)) (leading term of DLMF 8.17.8), so y = (p a B(a, b))^(1/a) is exact to rounding
+  /// once (a + b + 1) y < 1e-16. Boost's inversion fails there (below p ~ 1e-100: an evaluation error
+  /// thrown despite the policy, or a root off by a factor 2).
+  static double tail_root(double p, double a, double b, double log_beta) {
+    const double y = std::exp((std::log(p) + std::log(a) + log_beta) / a);
+    return y * (a + b + 1.0) < 1e-16 ? y : detail::kNaN;
+  }
+  double quantile_lower_(double p) const {
+    if (p <= 0.0) return 0.0;
+    const double x = tail_root(p, a_, b_, log_beta_);
+    return std::isnan(x) ? boost::math::quantile(dist(), p) : x;
+  }
   double quantile_upper_(double q) const {
-    return q <= 0.0 ? 1.0 : boost::math::quantile(boost::math::complement(dist(), q));
+    if (q <= 0.0) return 1.0;
+    const double y = tail_root(q, b_, a_, log_beta_);  // 1 - I_x(a, b) = I_(1-x)(b, a): y = 1 - x
+    return std::isnan(y) ? boost::math::quantile(boost::math::complement(dist(), q)) : 1.0 - y;
   }
   double a_, b_, log_beta_ = 0.0;
 };
@@ -831,6 +845,7 @@ class Empirical : public detail::DistributionBase<Empirical> {
       const double z = (x - s_[i]) / h_;
       mx = std::max(mx, -0.5 * z * z);
     }
+    if (mx == -detail::kInf) return mx;  // z^2 overflowed for every sample: density 0 (not -inf - -inf)
     double acc = 0.0;
     for (Eigen::Index i = 0; i < s_.size(); ++i) {
       const double z = (x - s_[i]) / h_;

@@ -3,6 +3,7 @@
 /// Per-anchor HMM forward filter of the sight condition from the quality statistics alone (Huerta Sec. V-C,
 /// eqs. 34-38; Grisales eq. 36 for N_z conditions). Anchors are treated independently (eq. 34): each keeps
 /// gamma_{k,b,t} = P(s_{b,t} = k | o_{b,1:t}).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -40,6 +41,7 @@ class ForwardFilter {
     gamma_.resize(B, nz);
     pred_.resize(B, nz);
     ll_.resize(B, nz);
+    lrow_.resize(nz);
     T_.resize(nz, nz);
     reset();
     save(back_);  // sizes step()'s undo copy: steps never allocate, not even the first
@@ -95,15 +97,28 @@ class ForwardFilter {
                      "o: statistic of anchor " + std::to_string(b) +
                          " has an infinite density under some condition (the edge of its support, e.g. "
                          "Beta(a < 1) at 0); expected a statistic where every density is finite");
-      double z = 0.0;
+      double z = 0.0, shift = m;
+      lrow_ = ll_.row(b);
       for (int k = 0; k < num_conditions(); ++k) {
-        ll_(b, k) = pred_(b, k) * std::exp(ll_(b, k) - m);  // eq. (37)
+        ll_(b, k) = pred_(b, k) * std::exp(lrow_(k) - m);  // eq. (37)
         z += ll_(b, k);
+      }
+      if (!(z >= std::numeric_limits<double>::min())) {
+        // Underflow: the likeliest condition is (nearly) ruled out by the prediction, and the others lie
+        // over ~708 nats below it. Rescale by the largest log pred + log p(o | k) instead.
+        shift = -std::numeric_limits<double>::infinity();
+        for (int k = 0; k < num_conditions(); ++k)
+          if (pred_(b, k) > 0.0) shift = std::max(shift, std::log(pred_(b, k)) + lrow_(k));
+        z = 0.0;
+        for (int k = 0; k < num_conditions(); ++k) {
+          ll_(b, k) = pred_(b, k) > 0.0 ? std::exp(std::log(pred_(b, k)) + lrow_(k) - shift) : 0.0;
+          z += ll_(b, k);
+        }
       }
       NLOSLOC_ENSURE(z > 0.0, "o: statistic of anchor " + std::to_string(b) +
                                   " is impossible under the predicted conditions");
       ll_.row(b) /= z;  // eq. (38): probabilities sum to one
-      total += m + std::log(z);
+      total += shift + std::log(z);
     }
     gamma_ = ll_;
     log_evidence_ = total;
@@ -180,7 +195,8 @@ class ForwardFilter {
   }
 
   MatX gamma_, pred_, ll_, T_;
-  Snapshot back_;  // step()'s undo copy
+  Eigen::RowVectorXd lrow_;  // update(): one anchor's log p(o | k) (no allocation)
+  Snapshot back_;            // step()'s undo copy
   long k_ = 0;
   double log_evidence_ = 0.0;
 };
