@@ -191,7 +191,8 @@ int cmd_run(const Registry& reg, RunArgs a) {
     const sim::CaseSummary sum = sim::summarize(s, r);
     fmt::print("{}\n", sim::format_table(sum));
     std::fflush(stdout);
-    if (a.scenario == "K3") extra += sim::format_k3_probability(r, 5.0);
+    if (const auto* k3 = dynamic_cast<const sim::K3*>(&s))  // Sec. 6.4's P(error <= threshold)
+      extra += sim::format_k3_probability(r, k3->params().threshold);
 
     if (!a.json.empty()) {
       Json ests = Json::object();

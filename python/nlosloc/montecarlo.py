@@ -90,6 +90,11 @@ def run(
         With ``executor``, ``wall_seconds`` is the whole call's and ``threads`` the largest of the
         chunks'.
     """
+    if isinstance(estimators, (str, bytes)):  # list("EKF") would be the estimators 'E', 'K', 'F'
+        raise TypeError(
+            "estimators: expected a list of estimator names and (name, factory) pairs, "
+            "got a single string"
+        )
     est = list(estimators) if estimators is not None else None
     if executor is not None:
         return _run_chunks(
@@ -112,6 +117,14 @@ def run(
         return call(bar.update)
     finally:
         bar.close()
+
+
+def _int_arg(value: Any, name: str, lowest: int) -> int:
+    """An integer argument (numpy's included, as the C++ runner takes them) >= lowest, as int."""
+    integer = isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+    if not integer or value < lowest:
+        raise ValueError(f"{name}: expected an int >= {lowest}, got {value!r}")
+    return int(value)
 
 
 def _label(name: str | _sim.Scenario) -> str:
@@ -153,14 +166,14 @@ def _run_chunks(
             "concurrent.futures.Executor or a dask.distributed.Client, "
             f"got {type(executor).__name__}"
         )
-    if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
-        raise ValueError(f"runs: expected an int >= 1, got {runs!r}")
-    if isinstance(first_run, bool) or not isinstance(first_run, int) or first_run < 0:
-        raise ValueError(f"first_run: expected an int >= 0, got {first_run!r}")
-    if chunk_runs is None:
-        chunk_runs = -(-runs // 16)
-    elif isinstance(chunk_runs, bool) or not isinstance(chunk_runs, int) or chunk_runs < 1:
-        raise ValueError(f"chunk_runs: expected an int >= 1, got {chunk_runs!r}")
+    runs = _int_arg(runs, "runs", 1)
+    first_run = _int_arg(first_run, "first_run", 0)
+    if first_run + runs - 1 > 2**64 - 1:  # as sim.run_monte_carlo says it, before any chunk runs
+        raise ValueError(
+            "first_run: expected first_run + runs - 1 <= 2^64 - 1, got first_run "
+            f"{first_run} and runs {runs}"
+        )
+    chunk_runs = -(-runs // 16) if chunk_runs is None else _int_arg(chunk_runs, "chunk_runs", 1)
     # Checked here, where the error is clear, rather than in every chunk.
     label = _label(name)
     cases = _sim.scenario_info(name)["cases"] if isinstance(name, str) else name.cases
@@ -213,6 +226,21 @@ def _run_chunks(
     return merged
 
 
+# Keys merge() reads from every result (first_run and case_index may be absent: older results).
+_RESULT_KEYS = (
+    "scenario",
+    "case",
+    "seed",
+    "steps",
+    "discard",
+    "dt",
+    "runs",
+    "threads",
+    "wall_seconds",
+    "estimators",
+)
+
+
 def merge(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
     """Join results of consecutive runs of one Monte Carlo run (``first_run`` chunks).
 
@@ -231,12 +259,22 @@ def merge(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
 
     Raises
     ------
+    TypeError
+        If an item is not a dict.
     ValueError
-        If the list is empty, the results differ in anything but their runs, or their runs
-        leave a gap or overlap.
+        If the list is empty, a result lacks a key of run_monte_carlo's, the results differ in
+        anything but their runs, or their runs leave a gap or overlap.
     """
     if len(results) == 0:
         raise ValueError("results: expected at least one result")
+    for i, r in enumerate(results):
+        if not isinstance(r, dict):
+            raise TypeError(
+                f"results[{i}]: expected a dict of run_monte_carlo, got {type(r).__name__}"
+            )
+        missing = [k for k in _RESULT_KEYS if k not in r]
+        if missing:
+            raise ValueError(f"results[{i}]: expected a dict of run_monte_carlo, missing {missing}")
     ordered = sorted(results, key=lambda r: int(r.get("first_run", 0)))
     first = ordered[0]
     keys = ("scenario", "case", "seed", "steps", "discard", "dt")

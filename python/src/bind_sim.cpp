@@ -182,7 +182,7 @@ void bind_scenarios(py::module_& m) {
       .def("paper_value", &sim::Scenario::paper_value, py::arg("estimator"), py::arg("case"),
            py::arg("metric"),
            "The published value of `metric` (\"p67\", \"p95\", \"time_per_step_us\") for an estimator "
-           "on a case, or None when the paper gives none.")
+           "on a case, or None when the paper gives none (an unknown case is a ValueError).")
       .def("case_index", &sim::Scenario::case_index, py::arg("case"),
            "Index of a case name; ValueError listing the valid names.")
       .def("draw", &draw_dict, py::arg("case"), py::arg("seed"), py::arg("run"),
@@ -510,8 +510,10 @@ numpy.ndarray
 
   m.def(
       "ecdf",
-      [](const DoubleArray& values, std::size_t max_points) {
-        const sim::Ecdf e = sim::ecdf(to_vector(values), max_points);
+      [](const DoubleArray& values, long long max_points) {  // signed: -1 gets a named ValueError
+        NLOSLOC_ENSURE(max_points >= 0,
+                       "max_points: expected 0 (all) or >= 2, got " + std::to_string(max_points));
+        const sim::Ecdf e = sim::ecdf(to_vector(values), static_cast<std::size_t>(max_points));
         return py::make_tuple(to_array(e.x), to_array(e.p));
       },
       py::arg("values"), py::arg("max_points") = 0,

@@ -71,8 +71,7 @@ void bind_k_scenarios(py::module_& m) {
       "(or a K2 through K2Params.base) is built from them (ValueError naming the field).");
   k1p.def(py::init<>())
       .def_readwrite("sigma_los", &K1Params::sigma_los, "Sec. 6: TOA noise n_i ~ N(0, sigma_los^2) (m), > 0.")
-      .def_readwrite("nlos_mean", &K1Params::nlos_mean,
-                     "Sec. 6.1: NLOS error b_i ~ N(mean, std^2) (m), finite.")
+      .def_readwrite("nlos_mean", &K1Params::nlos_mean, "Sec. 6.1: NLOS error b_i ~ N(mean, std^2) (m), > 0.")
       .def_readwrite("nlos_std", &K1Params::nlos_std, "Sec. 6.1: NLOS error std (m), > 0.")
       .def_readwrite("nlos_nonnegative", &K1Params::nlos_nonnegative,
                      "Choice: b_i = max(0, draw) (Sec. 2, eq. 1: b_i(k) >= 0); False keeps the normal draw.");
@@ -138,7 +137,8 @@ void bind_k_scenarios(py::module_& m) {
       .def_readwrite("nlos_rel", &K3Params::nlos_rel,
                      "Sec. 6.4: NLOS error exponential with mean nlos_rel d_i, > 0.")
       .def_readwrite("threshold", &K3Params::threshold,
-                     "Sec. 6.4: error threshold (m) of P(error <= t), > 0.");
+                     "Sec. 6.4: error threshold (m) of P(error <= t), > 0: the bench's line, and "
+                     "format_k3_probability(result, threshold).");
   nlosloc::bind::fixed_field<&K3Params::good>(k3p, "good", "K3Params.good",
                                               "Sec. 6.4: good geometry, four nodes (m), (4, 2).");
   nlosloc::bind::fixed_field<&K3Params::bad>(k3p, "bad", "K3Params.bad",

@@ -6,14 +6,14 @@ twins."""
 import numpy as np
 import pytest
 
-from nlosloc import core, filters, mitigation, models, noise, rbpf, situation, snapshot
+from nlosloc import core, filters, mitigation, models, noise, rbpf, sim, situation, snapshot
 from test_filters_api import MOTION, P0, X0, stack
 from test_rbpf import MOTION as MOTION6
 from test_rbpf import P0 as P06
 from test_rbpf import QUALITY, SIGHT, track
 from test_rbpf import X0 as X06
 from test_rbpf import stack as stack6
-from test_snapshot import rtoa_stack
+from test_snapshot import HEX, rtoa_stack
 
 Y3 = np.array([1420.0, 7650.0, 6700.0])
 INF_ROW = r"expected finite values, or NaN for a missing row; got inf at row"
@@ -448,3 +448,36 @@ def test_iukf_step_names_a_misshaped_o():
     with pytest.raises(ValueError, match=r"^o: expected shape \(6, 1\), got \(5, 1\)$"):
         f.step(Y[0], Q[0][:5])
     assert f.time == 0.0
+
+
+def test_sim_helpers_name_bad_arguments():
+    h1 = sim.H1()
+    for theta in (np.nan, np.inf):  # they read as sector 0
+        with pytest.raises(ValueError, match=r"^theta: expected a finite bearing \(rad\), got"):
+            h1.serving_sector(theta)
+    with pytest.raises(ValueError, match=r"^max_points: expected 0 \(all\) or >= 2, got -1$"):
+        sim.ecdf(np.arange(5.0), -1)
+    k1 = sim.scenario("K1")
+    assert k1.paper_value("EKF", "2LOS/1NLOS", "p67") is not None
+    assert k1.paper_value("EKF", "2LOS/1NLOS", "P67") is None  # no such metric published
+    with pytest.raises(ValueError, match=r"^case: unknown case '2LOS/1NLSO' of scenario K1"):
+        k1.paper_value("EKF", "2LOS/1NLSO", "p67")
+
+
+def test_mle_los_says_an_underdetermined_epoch_has_no_fix():
+    # 2 RTOA rows for 3 unknowns (p, tau): the Gauss-Newton point is one of many, as CHEN, CONG and
+    # URR say (valid False); MLE-LOS said valid True.
+    st = rtoa_stack()
+    rng = np.random.default_rng(2)
+    mle = snapshot.MleLos(st)
+    y = np.linalg.norm(HEX - np.array([100.0, -50.0]), axis=1) + 5.0 + rng.normal(0, 1, 6)
+    first = mle.solve(y)
+    assert first["valid"]
+    theta = np.array(first["theta"], copy=True)
+    y2 = y.copy()
+    y2[2:] = np.nan
+    r = mle.solve(y2)
+    assert not r["valid"]
+    np.testing.assert_array_equal(r["theta"], theta)  # the previous fix
+    y2[2] = y[2]  # three rows: determined
+    assert mle.solve(y2)["valid"]

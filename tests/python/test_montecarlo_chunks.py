@@ -139,6 +139,14 @@ def test_merge_joins_consecutive_chunks_in_any_order(full: dict) -> None:
     ekf_only = sim.run_monte_carlo("K1", CASE, 1, 3, ["EKF"], steps=STEPS, first_run=2)
     with pytest.raises(ValueError, match="estimators differ between chunks"):
         montecarlo.merge([chunks[0], ekf_only])
+    # not a result: named (it was an AttributeError or a KeyError from inside)
+    with pytest.raises(
+        TypeError, match=r"^results\[1\]: expected a dict of run_monte_carlo, got int$"
+    ):
+        montecarlo.merge([chunks[0], 3])
+    broken = {k: v for k, v in chunks[1].items() if k != "discard"}
+    with pytest.raises(ValueError, match=r"^results\[0\]: .* missing \['discard'\]$"):
+        montecarlo.merge([broken, chunks[0]])
 
 
 def test_an_executor_runs_the_chunks_and_gives_the_single_call_result(full: dict) -> None:
@@ -205,8 +213,33 @@ def test_executor_arguments_and_failures() -> None:
             montecarlo.run(
                 "K1", CASE, 4, 1, [("f", Failing)], steps=STEPS, executor=ex, progress=False
             )
+        # numpy integers, as without an executor; first_run + runs beyond 2^64 before any chunk
+        r = montecarlo.run(
+            "K1",
+            CASE,
+            np.int64(2),
+            1,
+            ["EKF"],
+            steps=STEPS,
+            progress=False,
+            executor=ex,
+            first_run=np.uint64(1),
+            chunk_runs=np.int32(1),
+        )
+        assert (r["runs"], r["first_run"]) == (2, 1)
+        msg = (
+            r"^first_run: expected first_run \+ runs - 1 <= 2\^64 - 1, "
+            r"got first_run 18446744073709551615 and runs 2$"
+        )
+        with pytest.raises(ValueError, match=msg):
+            montecarlo.run("K1", CASE, 2, first_run=2**64 - 1, executor=ex, progress=False)
+        with pytest.raises(ValueError, match=r"^runs: expected an int >= 1, got 2.0$"):
+            montecarlo.run("K1", CASE, 2.0, executor=ex, progress=False)
     with pytest.raises(TypeError, match="executor: expected an object with submit"):
         montecarlo.run("K1", CASE, 2, executor=object(), progress=False)
+    # a single name was split into the estimators 'E', 'K', 'F'
+    with pytest.raises(TypeError, match="^estimators: expected a list .* got a single string$"):
+        montecarlo.run("K1", CASE, 1, 1, "EKF", steps=STEPS, progress=False)
     with pytest.raises(ValueError, match="chunk_runs: only with an executor"):
         montecarlo.run("K1", CASE, 2, chunk_runs=1, progress=False)
 

@@ -32,6 +32,18 @@ def test_k1_params_defaults_are_the_papers_and_are_checked() -> None:
     with pytest.raises(ValueError, match=r"^K1Params\.sigma_los: expected a finite value > 0"):
         sim.K1(p)
     p = sim.K1Params()
+    p.nlos_mean = 0.0  # was refused by the NLOS noise model, as "ShiftedNormal: shift"
+    with pytest.raises(
+        ValueError, match=r"^K1Params\.nlos_mean: expected a finite value > 0, got 0"
+    ):
+        sim.K1(p)
+    q = sim.K2Params()
+    q.base.nlos_mean = -50.0
+    with pytest.raises(
+        ValueError, match=r"^K2Params\.base\.nlos_mean: expected a finite value > 0"
+    ):
+        sim.K2(q)
+    p = sim.K1Params()
     p.gamma = 0.5
     with pytest.raises(ValueError, match=r"^K1Params\.gamma: expected a finite value >= 1"):
         sim.K1(p)
@@ -151,7 +163,8 @@ def test_summarize_against_numpy(k1_result: dict) -> None:
         else:
             assert e.sight_accuracy is None
     assert sim.K1().paper_value("EKF", CASE, "p67") == paper[("EKF", "p67")]
-    assert sim.K1().paper_value("EKF", "no such case", "p67") is None
+    with pytest.raises(ValueError, match="^case: unknown case 'no such case' of scenario K1"):
+        sim.K1().paper_value("EKF", "no such case", "p67")  # was None, as for "nothing published"
     assert len(sim.K1().paper) == len(sim.scenario_info("K1")["paper"])
     # by name, with other levels
     other = sim.summarize("K1", r, levels=[10.0, 99.0])
@@ -214,6 +227,9 @@ def test_format_k3_probability_against_numpy() -> None:
         assert line == f"  K3 {'bad/4NLOS':<11} {name:<20} P(error <= 2 m) = {p:.3f}"
     with pytest.raises(ValueError, match=r"^threshold: expected a finite value > 0"):
         sim.format_k3_probability(r, threshold=0.0)
+    # the line names the result's scenario (it said K3 for any)
+    r = sim.run_monte_carlo("K1", "2LOS/1NLOS", 1, 1, ["EKF"], steps=105)
+    assert sim.format_k3_probability(r).startswith("  K1 2LOS/1NLOS  EKF ")
 
 
 def test_k2_study_is_the_monte_carlo_runs_averaged() -> None:

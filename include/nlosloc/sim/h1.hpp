@@ -275,6 +275,8 @@ class H1 : public Scenario {
   std::vector<noise::Distribution> quality() const { return {quality_los_, quality_nlos_}; }
   /// Index (0..2) of the sector serving a mobile at bearing theta (rad).
   int serving_sector(double theta) const {
+    NLOSLOC_ENSURE(std::isfinite(theta),
+                   "theta: expected a finite bearing (rad), got " + std::to_string(theta));
     int best = 0;
     double dmin = 1e300;
     for (int j = 0; j < 3; ++j) {

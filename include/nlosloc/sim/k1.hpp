@@ -112,7 +112,8 @@ class K1 : public Scenario {
   static const K1Params& checked(const K1Params& p, const std::string& params = "K1Params") {
     nlosloc::detail::ensure_finite(p.anchors, (params + ".anchors").c_str());
     nlosloc::detail::ensure_positive(p.sigma_los, (params + ".sigma_los").c_str());
-    NLOSLOC_ENSURE(std::isfinite(p.nlos_mean), params + ".nlos_mean: expected a finite value");
+    // > 0: NLOS adds a delay, and the filters' NLOS noise is a ShiftedNormal (shift > 0)
+    nlosloc::detail::ensure_positive(p.nlos_mean, (params + ".nlos_mean").c_str());
     nlosloc::detail::ensure_positive(p.nlos_std, (params + ".nlos_std").c_str());
     check_ke_wu_params(p, params);
     return p;

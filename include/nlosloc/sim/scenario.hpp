@@ -100,9 +100,11 @@ class Scenario {
                                    "; expected one of: " + known);
   }
 
-  /// Published value of (estimator, case, metric), if the paper has one.
+  /// Published value of (estimator, case, metric), if the paper has one; an unknown case is
+  /// std::invalid_argument (case_index), as a misspelt case would otherwise read as "no value".
   std::optional<double> paper_value(const std::string& estimator, const std::string& case_name,
                                     const std::string& metric) const {
+    case_index(case_name);
     for (const PaperValue& v : paper())
       if (v.estimator == estimator && v.case_name == case_name && v.metric == metric) return v.value;
     return std::nullopt;

@@ -39,8 +39,9 @@ class MleLos {
     last_ = start;
   }
 
-  /// The fix of epoch y (NaN rows skipped). When no fix is possible the previous one is returned with
-  /// valid = false.
+  /// The fix of epoch y (NaN rows skipped). When no fix is possible (fewer observed rows than unknowns:
+  /// an underdetermined epoch has no unique fix, as CHEN, CONG and URR also say) the previous one is
+  /// returned with valid = false.
   const SnapshotResult& solve(const Eigen::Ref<const VecX>& y) {
     detail::check_measurement(y, solver_.stack().rows());  // polar_start reads y before any solve
     res_.fixes = 0;
@@ -57,7 +58,7 @@ class MleLos {
     if (solver_.linear_start(y, use_, s)) consider(s);
     if (polar_start(y, s)) consider(s);
     consider(last_);
-    if (best.theta.size() && best.rows > 0) {
+    if (best.theta.size() && best.rows >= solver_.unknowns()) {
       last_ = best.theta;
       res_.valid = true;
       res_.cost = best.cost;

@@ -24,7 +24,7 @@ class Scenario:
         """
     def paper_value(self, estimator: str, case: str, metric: str) -> float | None:
         """
-        The published value of `metric` ("p67", "p95", "time_per_step_us") for an estimator on a case, or None when the paper gives none.
+        The published value of `metric` ("p67", "p95", "time_per_step_us") for an estimator on a case, or None when the paper gives none (an unknown case is a ValueError).
         """
     @property
     def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -584,7 +584,7 @@ class K1Params:
     @property
     def nlos_mean(self) -> float:
         """
-        Sec. 6.1: NLOS error b_i ~ N(mean, std^2) (m), finite.
+        Sec. 6.1: NLOS error b_i ~ N(mean, std^2) (m), > 0.
         """
     @nlos_mean.setter
     def nlos_mean(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
@@ -842,7 +842,7 @@ class K3Params:
     @property
     def threshold(self) -> float:
         """
-        Sec. 6.4: error threshold (m) of P(error <= t), > 0.
+        Sec. 6.4: error threshold (m) of P(error <= t), > 0: the bench's line, and format_k3_probability(result, threshold).
         """
     @threshold.setter
     def threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
