@@ -229,6 +229,68 @@ def test_h2_custom_params_reach_the_scenario_and_the_runner() -> None:
         sim.run_monte_carlo(h, "default", 1, 3, ["K1-EKF"], 1)
 
 
+def test_descriptions_and_choices_report_the_parameters_used() -> None:
+    # Default scenarios: lines copied from the output printed before the fields were formatted.
+    h1_default = sim.H1().choices
+    assert h1_default[0] == (
+        "BS at the origin with sectors of 120 deg whose broadsides point at 90, 210 and 330 deg; "
+        "the serving sector is the one whose span contains the mobile's bearing (the path changes "
+        "sector twice, Fig. 10)"
+    )
+    assert sim.scenario("H2").choices[0] == (
+        "anchors at the hexagon vertices (3000 cos(60 k deg), 3000 sin(60 k deg)), k = 0..5"
+    )
+    assert sim.scenario("K1").choices[3] == (
+        "NLOS measurement = d + n + b with n ~ N(0, 50^2) and b = max(0, N(513, 436^2)) drawn "
+        "every step: Sec. 6.1's Gaussian with Sec. 2's b_i(k) >= 0 (eq. 1); a negative draw (12%) "
+        "is an NLOS link with no excess delay (mean of b 539 m). K1Params::nlos_nonnegative = "
+        "false keeps the untruncated draw. The stack's NLOS row noise (for the model-based "
+        "filters) stays N(513, 50^2 + 436^2)"
+    )
+    assert sim.scenario("K3").choices[3] == (
+        "initial belief: truth + N(0, diag(2^2, 2^2, 0.1^2, 0.1^2)), covariance the same; first "
+        "100 of 200 samples left out (Sec. 6's rule); P(error <= 5 m) pooled over runs and samples "
+        "k >= 100"
+    )
+    assert sim.K2().description == (
+        "Ke & Wu 2011 Sec. 6.2: K1's 3 TOA nodes and noise, every node alternating NLOS/LOS every "
+        "200 samples, L = 2000, dt = 0.1 s"
+    )
+
+    h1 = sim.H1(sim.H1Params(start=(-500.0, 300.0), speed=3.0, mean_nlos=10.0))
+    assert "mobile at 3 m/s" in h1.description and "10 m/s" not in h1.description
+    assert "starts at (-500, 300) m heading +x at exactly 3 m/s" in h1.choices[2]
+    assert "(-1000, 400)" not in h1.choices[2] and "10 m/s" not in h1.choices[2]
+    assert "(p_N = 10/40 = 0.25)" in h1.choices[3]
+    assert "never changes sector" in h1.choices[0]  # bearing 149 -> 72 deg: the 90-deg sector only
+
+    h2 = sim.H2(sim.H2Params(side=1500.0, rtoa_nlos_var=800.0, mean_nlos=40.0))
+    assert "1500" in h2.choices[0] and "3000" not in h2.choices[0]
+    assert "1.5 km hexagon" in h2.description and "E{L_NLOS} = 40 m" in h2.description
+    assert "variance 800 (" in h2.choices[2] and "5000" not in h2.choices[2]
+    sigma = np.sqrt(800.0 / (2.0 - np.pi / 2.0))  # Rayleigh scale of the NLOS noise
+    w = sigma * np.sqrt(-2.0 * np.log(0.01))  # its 99% quantile, URR's W
+    assert h2.urr_nlos_span() == pytest.approx(w, rel=1e-12)
+    assert f"W = {w:.4g} m" in h2.choices[-1] and "327" not in h2.choices[-1]
+    assert "P(NLOS) = 0.8 at t = 0" in h2.choices[-1] and "(p_N = 0.8)" in h2.choices[3]
+    header = sim.format_choices(h2)
+    assert "1500 cos(60 k deg)" in header and "3000" not in header
+
+    k1 = sim.K1(sim.K1Params(steps=300, dt=0.2, sigma_los=30.0))
+    assert "L = 300, dt = 0.2 s" in k1.description
+    assert "L = 2000" not in k1.description and "dt = 0.1 s" not in k1.description
+    assert "R = 30^2 I" in k1.choices[6] and "50^2" not in k1.choices[6]
+
+    k2 = sim.K2(sim.K2Params(base=sim.K1Params(steps=300, dt=0.2), period=50, start_nlos=False))
+    assert "alternating LOS/NLOS every 50 samples, L = 300, dt = 0.2 s" in k2.description
+    assert "samples [0, 50) LOS, [50, 100) NLOS" in k2.choices[0] and "200" not in k2.choices[0]
+
+    k3 = sim.K3(sim.K3Params(threshold=3.0, sigma_rel=0.05))
+    assert "P(error <= 3 m)" in k3.description and "5 m" not in k3.description
+    assert "P(error <= 3 m)" in k3.choices[3] and "<= 5 m" not in k3.choices[3]
+    assert "n_i ~ N(0, (0.05 d_i)^2)" in k3.choices[2] and "0.02" not in k3.choices[2]
+
+
 def test_runs_refuse_repeats_explicit_zero_steps_and_runs_without_statistics() -> None:
     with pytest.raises(ValueError, match="^estimators: 'EKF' appears more than once$"):
         sim.run_monte_carlo("K1", CASE, 1, 1, ["EKF", "EKF"], steps=200)

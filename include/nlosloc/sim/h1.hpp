@@ -226,31 +226,68 @@ class H1 : public Scenario {
 
   std::string name() const override { return "H1"; }
   std::string description() const override {
-    return "Huerta et al. 2009 Sec. VI-A: one tri-sector BS, TOA + AOA phase, mobile at 10 m/s, "
-           "speed-dependent "
-           "LOS/NLOS (E{L_LOS} = 30 m, E{L_NLOS} = 5 m), dt = 0.01 s, 200 s";
+    const auto f = [](double v) { return detail::fmt_num(v); };
+    return "Huerta et al. 2009 Sec. VI-A: one tri-sector BS, TOA + AOA phase, mobile at " + f(p_.speed) +
+           " m/s, speed-dependent LOS/NLOS (E{L_LOS} = " + f(p_.mean_los) +
+           " m, E{L_NLOS} = " + f(p_.mean_nlos) + " m), dt = " + f(p_.dt) + " s, " + f(p_.steps * p_.dt) +
+           " s";
   }
   std::vector<std::string> choices() const override {
+    const auto f = [](double v) { return detail::fmt_num(v); };
+    const auto beta = [&f](double a, double b) { return "Beta(" + f(a) + ", " + f(b) + ")"; };
+    // serving-sector changes along the truth's path (as generate(): constant velocity from start)
+    const Vec<2> v = p_.speed * p_.heading;
+    int changes = 0;
+    for (int k = 0, prev = -1; k < p_.steps; ++k) {
+      const Vec<2> pos = p_.start + (k * p_.dt) * v;
+      const int j = serving_sector(std::atan2(pos[1], pos[0]));
+      if (prev >= 0 && j != prev) ++changes;
+      prev = j;
+    }
+    const std::string path = changes == 0   ? std::string("never changes sector")
+                             : changes == 1 ? std::string("changes sector once")
+                             : changes == 2 ? std::string("changes sector twice")
+                                            : "changes sector " + std::to_string(changes) + " times";
+    const Vec<2>& h = p_.heading;  // a unit vector (checked): +x, -x, +y, -y or (h_x, h_y)
+    const std::string heading = h[1] == 0.0   ? std::string(h[0] > 0.0 ? "+x" : "-x")
+                                : h[0] == 0.0 ? std::string(h[1] > 0.0 ? "+y" : "-y")
+                                              : detail::fmt_point(h[0], h[1]);
+    const double p_n = p_.mean_nlos / (p_.mean_los + p_.mean_nlos);  // eq. (18)
+    const noise::Rayleigh toa_nlos = noise::Rayleigh::from_variance(p_.toa_nlos_var);
+    // initial belief variances as s^2 (a unit std printed as 1)
+    std::string init;
+    for (int i = 0; i < 4; ++i) {
+      const double s = p_.initial_std[i];
+      init += (i > 0 ? ", " : "") + (s == 1.0 ? std::string("1") : f(s) + "^2");
+    }
+    const std::string discarded = p_.discard == 0
+                                      ? std::string("no step discarded")
+                                      : "first " + std::to_string(p_.discard) + " steps discarded";
     return {
-        "BS at the origin with sectors of 120 deg whose broadsides point at 90, 210 and 330 deg; the serving "
-        "sector is the one whose span contains the mobile's bearing (the path changes sector twice, Fig. 10)",
+        "BS at the origin with sectors of 120 deg whose broadsides point at " + f(p_.sector_deg[0]) + ", " +
+            f(p_.sector_deg[1]) + " and " + f(p_.sector_deg[2]) +
+            " deg; the serving sector is the one whose span contains the mobile's bearing (the path " + path +
+            ", Fig. 10)",
         "AOA = electric phase psi = pi sin(theta - theta_sector) of a half-wavelength ULA of the serving "
-        "sector "
-        "(Table I psi); one phase row per sector, NaN when the sector does not serve; noise added to the "
-        "phase",
-        "mobile starts at (-1000, 400) m heading +x at exactly 10 m/s (no process noise in the truth, Table "
-        "VII "
-        "note); sigma_v^2 = 1 only in the filters' random-walk model (eq. 6)",
+        "sector (Table I psi); one phase row per sector, NaN when the sector does not serve; noise added to "
+        "the phase",
+        "mobile starts at " + detail::fmt_point(p_.start[0], p_.start[1]) + " m heading " + heading +
+            " at exactly " + f(p_.speed) +
+            " m/s (no process noise in the truth, Table VII note); sigma_v^2 = " + f(p_.sigma_v2) +
+            " only in the filters' random-walk model (eq. 6)",
         "sight: one two-state chain, eq. (17) with the transversal speed of eq. (10), s_0 drawn from eq. "
-        "(18) "
-        "(p_N = 5/35 = 0.143)",
-        "noise (Table VIII): 'variance' is the distribution's variance: TOA LOS N(0, 10), NLOS Rayleigh with "
-        "variance 2000 (scale 68.3 m, mean 85.6 m, no Gaussian term added); phase LOS N(0, 1e-5), NLOS N(0, "
-        "1e-3)",
-        "quality statistic o ~ Beta(4, 1.5) in LOS, Beta(1.5, 4) in NLOS, independent per step",
-        "initial belief: mean = true state + N(0, diag(10^2, 10^2, 1, 1)) drawn once per run and shared by "
-        "all "
-        "estimators; covariance diag(10^2, 10^2, 1, 1); first update with y_0, no step discarded",
+        "(18) (p_N = " +
+            f(p_.mean_nlos) + "/" + f(p_.mean_los + p_.mean_nlos) + " = " + detail::fmt_num(p_n, 3) + ")",
+        "noise (Table VIII): 'variance' is the distribution's variance: TOA LOS N(0, " + f(p_.toa_los_var) +
+            "), NLOS Rayleigh with variance " + f(p_.toa_nlos_var) + " (scale " +
+            detail::fmt_num(toa_nlos.scale(), 3) + " m, mean " + detail::fmt_num(toa_nlos.mean(), 3) +
+            " m, no Gaussian term added); phase LOS N(0, " + f(p_.aoa_los_var) + "), NLOS N(0, " +
+            f(p_.aoa_nlos_var) + ")",
+        "quality statistic o ~ " + beta(p_.quality_los_a, p_.quality_los_b) + " in LOS, " +
+            beta(p_.quality_nlos_a, p_.quality_nlos_b) + " in NLOS, independent per step",
+        "initial belief: mean = true state + N(0, diag(" + init +
+            ")) drawn once per run and shared by all estimators; covariance diag(" + init +
+            "); first update with y_0, " + discarded,
         "MLE-LOS: Gauss-Newton ML of the current TOA + phase assuming LOS (exactly determined: the polar "
         "inversion of range and bearing); EKF-LOS: EKF with the LOS noise on every row",
     };

@@ -102,42 +102,61 @@ class H2 : public Scenario {
 
   std::string name() const override { return "H2"; }
   std::string description() const override {
-    return "Huerta et al. 2009 Sec. VI-B: 6 RTOA anchors on a 3 km hexagon, unsynchronised mobile (clock "
-           "bias and "
-           "drift), velocity random walk sigma_v^2 = 1, E{L_LOS} = E{L_NLOS} = 10 m, dt = 0.01 s, 60 s";
+    const auto f = [](double v) { return detail::fmt_num(v); };
+    const std::string means = p_.mean_los == p_.mean_nlos ? "E{L_LOS} = E{L_NLOS} = " + f(p_.mean_los) + " m"
+                                                          : "E{L_LOS} = " + f(p_.mean_los) +
+                                                                " m, E{L_NLOS} = " + f(p_.mean_nlos) + " m";
+    return "Huerta et al. 2009 Sec. VI-B: 6 RTOA anchors on a " + f(p_.side / 1000.0) +
+           " km hexagon, unsynchronised mobile (clock bias and drift), velocity random walk sigma_v^2 = " +
+           f(p_.sigma_v2) + ", " + means + ", dt = " + f(p_.dt) + " s, " + f(p_.steps * p_.dt) + " s";
   }
   std::vector<std::string> choices() const override {
+    const auto f = [](double v) { return detail::fmt_num(v); };
+    const auto beta = [&f](double a, double b) { return "Beta(" + f(a) + ", " + f(b) + ")"; };
+    const Vec<6> var = prior_variances();
+    std::string prior;
+    for (int i = 0; i < 6; ++i) prior += (i > 0 ? ", " : "") + f(var[i]);
+    const noise::Rayleigh rtoa_nlos = noise::Rayleigh::from_variance(p_.rtoa_nlos_var);
+    const double p_n = p_.mean_nlos / (p_.mean_los + p_.mean_nlos);  // eq. (18), as make_h2_urr
+    // URR's per-step switch probabilities (eq. 15): one number when E{L_LOS} = E{L_NLOS}
+    const double p_ln = urr_switch_probability(0), p_nl = urr_switch_probability(1);
+    const std::string switches = p_ln == p_nl ? detail::fmt_num(p_ln, 2)
+                                              : "LOS -> NLOS " + detail::fmt_num(p_ln, 2) + ", NLOS -> LOS " +
+                                                    detail::fmt_num(p_nl, 2);
+    const std::string discarded = p_.discard == 0
+                                      ? std::string("no step discarded")
+                                      : "first " + std::to_string(p_.discard) + " steps discarded";
     return {
-        "anchors at the hexagon vertices (3000 cos(60 k deg), 3000 sin(60 k deg)), k = 0..5",
-        "truth drawn from the filters' model (eqs. 4-7, ConstantVelocityClock2): x_0 ~ N(0, diag(1, 1, 10, "
-        "1, 1, "
-        "10)) (start at the centre with std 1 m, velocity std 1 m/s, Table IX clock priors); the initial "
-        "belief "
-        "of every estimator is that prior (mean 0)",
-        "RTOA y_b = ||p - q_b|| + tau + n (Table I); noise (Table X) LOS N(0, 10), NLOS Rayleigh with "
-        "variance "
-        "5000 (scale 107.9, mean 135.2; no Gaussian term added)",
+        "anchors at the hexagon vertices (" + f(p_.side) + " cos(60 k deg), " + f(p_.side) +
+            " sin(60 k deg)), k = 0..5",
+        "truth drawn from the filters' model (eqs. 4-7, ConstantVelocityClock2): x_0 ~ N(0, diag(" + prior +
+            ")) (start at the centre with std " + f(p_.position0_std) + " m, velocity std " +
+            f(p_.velocity0_std) +
+            " m/s, Table IX clock priors); the initial belief of every estimator is that prior (mean 0)",
+        "RTOA y_b = ||p - q_b|| + tau + n (Table I); noise (Table X) LOS N(0, " + f(p_.rtoa_los_var) +
+            "), NLOS Rayleigh with variance " + f(p_.rtoa_nlos_var) + " (scale " +
+            detail::fmt_num(rtoa_nlos.scale(), 4) + ", mean " + detail::fmt_num(rtoa_nlos.mean(), 4) +
+            "; no Gaussian term added)",
         "sight: one two-state chain per anchor, eq. (17) with the transversal speed of eq. (10), s_0 from "
-        "eq. (18) "
-        "(p_N = 0.5), anchors independent (eq. 9)",
-        "quality statistic o ~ Beta(4, 1.5) in LOS, Beta(1.5, 4) in NLOS, per anchor and step",
-        "no step discarded; first update with y_0",
+        "eq. (18) (p_N = " +
+            detail::fmt_num(p_n, 3) + "), anchors independent (eq. 9)",
+        "quality statistic o ~ " + beta(p_.quality_los_a, p_.quality_los_b) + " in LOS, " +
+            beta(p_.quality_nlos_a, p_.quality_nlos_b) + " in NLOS, per anchor and step",
+        discarded + "; first update with y_0",
         "EKF-LOS: EKF with the LOS noise on every row (eq. 6-7 model)",
         "CHEN: all anchor sets of >= 4 anchors (over-determined for p, tau), normalised residual / set size, "
-        "50% "
-        "with the largest residual rejected, residual-weighted mean; per-set ML by Gauss-Newton (not "
-        "simulated "
-        "annealing)",
+        "50% with the largest residual rejected, residual-weighted mean; per-set ML by Gauss-Newton (not "
+        "simulated annealing)",
         "CONG: residual test (chi-square 99%, discarded residuals > -3 sigma) for the largest consistent set "
-        "of "
-        ">= 4 anchors; if none, the 4 rows with the smallest residuals under a split normal fitted to the "
-        "NLOS "
-        "noise (noise::AsymmetricNormal::fit of 20000 draws)",
+        "of >= 4 anchors; if none, the 4 rows with the smallest residuals under a split normal fitted to the "
+        "NLOS noise (noise::AsymmetricNormal::fit of 20000 draws)",
         "URR: hypotheses = LOS sets of >= 3 anchors, TDOA ML (RTOA with a free clock), uniform NLOS density "
-        "over "
-        "W = 327.5 m (99% quantile of the NLOS noise), per-anchor switch probability of eq. (15) at a "
-        "transversal "
-        "speed of 5 m/s (0.005 per step), P(NLOS) = 0.5 at t = 0; Viterbi decision without delay",
+        "over W = " +
+            detail::fmt_num(urr_nlos_span(), 4) +
+            " m (99% quantile of the NLOS noise), per-anchor switch probability of eq. (15) at a transversal "
+            "speed of " +
+            f(p_.urr_speed) + " m/s (" + switches + " per step), P(NLOS) = " + detail::fmt_num(p_n, 3) +
+            " at t = 0; Viterbi decision without delay",
     };
   }
   std::vector<std::string> cases() const override { return {"default"}; }

@@ -121,36 +121,75 @@ class K1 : public Scenario {
 
   std::string name() const override { return "K1"; }
   std::string description() const override {
-    return "Ke & Wu 2011 Sec. 6.1: 3 TOA nodes, fixed LOS/NLOS per node, NLOS error N(513, 436^2), "
-           "mobile at (10, 15) m/s, L = 2000, dt = 0.1 s";
+    const auto f = [](double v) { return detail::fmt_num(v); };
+    return "Ke & Wu 2011 Sec. 6.1: 3 TOA nodes, fixed LOS/NLOS per node, NLOS error N(" + f(p_.nlos_mean) +
+           ", " + f(p_.nlos_std) + "^2), mobile at " + detail::fmt_point(p_.velocity[0], p_.velocity[1]) +
+           " m/s, L = " + std::to_string(p_.steps) + ", dt = " + f(p_.dt) + " s";
   }
   std::vector<std::string> choices() const override {
+    const auto f = [](double v) { return detail::fmt_num(v); };
+    const K1Params& p = p_;
+    const std::string r = f(p.sigma_los) + "^2";  // variance of n_i, R = r I
+    const std::string bias = "N(" + f(p.nlos_mean) + ", " + f(p.nlos_std) + "^2)";
+    // b ~ N(m, s^2) is negative with probability Phi(-m/s); E max(0, b) = m Phi(m/s) + s phi(m/s)
+    const double z = p.nlos_mean / p.nlos_std;
+    const double negative = 0.5 * std::erfc(z / std::sqrt(2.0));
+    const double mean_b =
+        p.nlos_mean * (1.0 - negative) + p.nlos_std * std::exp(-0.5 * z * z) / std::sqrt(2.0 * kPi);
+    const std::string pct = detail::fmt_num(100.0 * negative, 2) + "%";
+    const std::string stack = "N(" + f(p.nlos_mean) + ", " + r + " + " + f(p.nlos_std) + "^2)";
+    std::string init;
+    for (int i = 0; i < 4; ++i) init += (i > 0 ? ", " : "") + f(p.initial_std[i]) + "^2";
+    const std::string updates =
+        p.iterated_iterations == 1
+            ? std::string(
+                  "one EKF update per step (iterating the update, 2-3 Gauss-Newton passes, made every NLOS "
+                  "case worse)")
+            : std::to_string(p.iterated_iterations) +
+                  " Gauss-Newton passes of the EKF update per step (one by default: 2-3 passes made every "
+                  "NLOS case worse)";
     return {
-        "start position (1000, 1000) m (scenarios.md choice); initial velocity exactly (10, 15) m/s",
-        "truth simulated with the filters' model: eq. (16) white acceleration, variance 1 (m/s^2)^2 per axis",
-        "NLOS nodes of a case with j NLOS nodes: the last j nodes (j = 1: (4300, 7500); j = 2: also (8600, "
-        "0))",
-        "NLOS measurement = d + n + b with n ~ N(0, 50^2) and b = max(0, N(513, 436^2)) drawn every step: "
-        "Sec. 6.1's Gaussian with Sec. 2's b_i(k) >= 0 (eq. 1); a negative draw (12%) is an NLOS link with "
-        "no excess delay (mean of b 539 m). K1Params::nlos_nonnegative = false keeps the untruncated draw. "
-        "The stack's NLOS row noise (for the model-based filters) stays N(513, 50^2 + 436^2)",
-        "initial belief: mean = true state at k = 0 + N(0, diag(50^2, 50^2, 10^2, 10^2)), drawn once per run "
-        "and shared by all estimators; covariance diag(50^2, 50^2, 10^2, 10^2)",
+        "start position " + detail::fmt_point(p.start[0], p.start[1]) +
+            " m (scenarios.md choice); initial velocity exactly " +
+            detail::fmt_point(p.velocity[0], p.velocity[1]) + " m/s",
+        "truth simulated with the filters' model: eq. (16) white acceleration, variance " + f(p.accel_var) +
+            " (m/s^2)^2 per axis",
+        "NLOS nodes of a case with j NLOS nodes: the last j nodes (j = 1: " +
+            detail::fmt_point(p.anchors(2, 0), p.anchors(2, 1)) + "; j = 2: also " +
+            detail::fmt_point(p.anchors(1, 0), p.anchors(1, 1)) + ")",
+        p.nlos_nonnegative
+            ? "NLOS measurement = d + n + b with n ~ N(0, " + r + ") and b = max(0, " + bias +
+                  ") drawn every step: Sec. 6.1's Gaussian with Sec. 2's b_i(k) >= 0 (eq. 1); a negative "
+                  "draw (" +
+                  pct + ") is an NLOS link with no excess delay (mean of b " + detail::fmt_num(mean_b, 3) +
+                  " m). K1Params::nlos_nonnegative = false keeps the untruncated draw. The stack's NLOS row "
+                  "noise (for the model-based filters) stays " +
+                  stack
+            : "NLOS measurement = d + n + b with n ~ N(0, " + r + ") and b ~ " + bias +
+                  " drawn every step (K1Params::nlos_nonnegative = false: Sec. 6.1's Gaussian untruncated, "
+                  "negative " +
+                  pct +
+                  " of the time although Sec. 2 has b_i(k) >= 0). The stack's NLOS row noise (for the "
+                  "model-based filters) is " +
+                  stack,
+        "initial belief: mean = true state at k = 0 + N(0, diag(" + init +
+            ")), drawn once per run and shared by all estimators; covariance diag(" + init + ")",
         "first update with y_0 at k = 0 (no prediction before it); 67% / 95% errors pooled over runs and "
-        "samples k >= 100",
-        "EKF: R = 50^2 I (LOS assumed on every node), Q of eq. (16) with variance 1, no adaptive R "
-        "(the paper's Ref. [19] adaptation is not specified)",
-        "proposed: EKF + bias QP (Secs. 3-5), gamma = 1.1, R = 50^2 I (adaptive R of ref. [19] left out: "
-        "form not given), bounds 0 <= b_i <= eq. (15) (upper < 0 clamped to 0); eqs. (12)-(14) referenced "
-        "to the EKF prediction: r = innovation (eq. 26), L = I, Sigma_v = F P F^T + R (eq. 27), so the QP "
-        "has a unique minimiser (Sec. 3's snapshot form has rank M - 2 and barely mitigates); rows whose "
-        "bias lands strictly inside its box carry no information after subtraction and are left out of "
-        "eqs. (22)-(25) that step; QP failure -> b = 0 (flagged); sight estimate of every node = the global "
-        "decision of eq. (32)",
+        "samples k >= " +
+            std::to_string(p.discard),
+        "EKF: R = " + r + " I (LOS assumed on every node), Q of eq. (16) with variance " + f(p.accel_var) +
+            ", no adaptive R (the paper's Ref. [19] adaptation is not specified)",
+        "proposed: EKF + bias QP (Secs. 3-5), gamma = " + f(p.gamma) + ", R = " + r +
+            " I (adaptive R of ref. [19] left out: form not given), bounds 0 <= b_i <= eq. (15) (upper < 0 "
+            "clamped to 0); eqs. (12)-(14) referenced to the EKF prediction: r = innovation (eq. 26), L = I, "
+            "Sigma_v = F P F^T + R (eq. 27), so the QP has a unique minimiser (Sec. 3's snapshot form has "
+            "rank M - 2 and barely mitigates); rows whose bias lands strictly inside its box carry no "
+            "information after subtraction and are left out of eqs. (22)-(25) that step; QP failure -> b = 0 "
+            "(flagged); sight estimate of every node = the global decision of eq. (32)",
         "iterated-NLOS-EKF (Najar & Vidal 2003 as described in Ke & Wu Sec. 1 and in N&V's abstract: the "
-        "Kalman filter's state includes one bias per node): bias random walk std 1 m/step, bias prior "
-        "N(0, 500^2), R = 50^2 I, one EKF update per step (iterating the update, 2-3 Gauss-Newton passes, "
-        "made every NLOS case worse), bias means projected onto >= 0",
+        "Kalman filter's state includes one bias per node): bias random walk std " +
+            f(p.iterated_bias_walk_std) + " m/step, bias prior N(0, " + f(p.iterated_bias_prior_std) +
+            "^2), R = " + r + " I, " + updates + ", bias means projected onto >= 0",
         "proposed-soft: the proposed tracker with QpBiasEkfOptions::soft_threshold = 1 (not in the paper: an "
         "L1 term on eq. (14) so rows within about 1 standard deviation of the prediction stay LOS instead of "
         "being read as biased and left out; qp_bias_ekf.hpp item 4)",

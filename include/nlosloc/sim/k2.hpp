@@ -48,18 +48,34 @@ class K2 : public Scenario {
 
   std::string name() const override { return "K2"; }
   std::string description() const override {
-    return "Ke & Wu 2011 Sec. 6.2: K1's 3 TOA nodes and noise, every node alternating NLOS/LOS every 200 "
-           "samples, L = 2000, dt = 0.1 s";
+    const auto f = [](double v) { return detail::fmt_num(v); };
+    return "Ke & Wu 2011 Sec. 6.2: K1's 3 TOA nodes and noise, every node alternating " +
+           std::string(p_.start_nlos ? "NLOS/LOS" : "LOS/NLOS") + " every " + std::to_string(p_.period) +
+           " samples, L = " + std::to_string(p_.base.steps) + ", dt = " + f(p_.base.dt) + " s";
   }
   std::vector<std::string> choices() const override {
+    const auto f = [](double v) { return detail::fmt_num(v); };
+    const K1Params& p = p_.base;
+    const std::string r = f(p.sigma_los) + "^2";
+    const std::string bias = "N(" + f(p.nlos_mean) + ", " + f(p.nlos_std) + "^2)";
+    const std::string first = p_.start_nlos ? "NLOS" : "LOS", second = p_.start_nlos ? "LOS" : "NLOS";
+    std::string init;
+    for (int i = 0; i < 4; ++i) init += (i > 0 ? ", " : "") + f(p.initial_std[i]) + "^2";
+    const std::string updates = p.iterated_iterations == 1
+                                    ? std::string("one update per step")
+                                    : std::to_string(p.iterated_iterations) + " updates per step";
     return {
-        "all three nodes switch together; samples [0, 200) NLOS, [200, 400) LOS, ... (the paper's 60 s "
-        "excerpt runs NLOS-LOS-NLOS)",
-        "everything else as K1: start (1000, 1000) m, NLOS error max(0, N(513, 436^2)) drawn every step, "
-        "initial belief truth + N(0, diag(50^2, 50^2, 10^2, 10^2)), first 100 samples left out",
-        "estimators as in K1 (proposed: gamma = 1.1, R = 50^2 I, QP referenced to the prediction; iterated "
-        "NLOS EKF: bias random walk 1 m/step, prior N(0, 500^2), one update per step; EKF: R = 50^2 I; "
-        "proposed-soft: soft threshold lambda = 1)",
+        "all three nodes switch together; samples [0, " + std::to_string(p_.period) + ") " + first + ", [" +
+            std::to_string(p_.period) + ", " + std::to_string(2LL * p_.period) + ") " + second +
+            ", ... (the paper's 60 s excerpt runs NLOS-LOS-NLOS)",
+        "everything else as K1: start " + detail::fmt_point(p.start[0], p.start[1]) + " m, NLOS error " +
+            (p.nlos_nonnegative ? "max(0, " + bias + ")" : bias) +
+            " drawn every step, initial belief truth + N(0, diag(" + init + ")), first " +
+            std::to_string(p.discard) + " samples left out",
+        "estimators as in K1 (proposed: gamma = " + f(p.gamma) + ", R = " + r +
+            " I, QP referenced to the prediction; iterated NLOS EKF: bias random walk " +
+            f(p.iterated_bias_walk_std) + " m/step, prior N(0, " + f(p.iterated_bias_prior_std) + "^2), " +
+            updates + "; EKF: R = " + r + " I; proposed-soft: soft threshold lambda = 1)",
         "identification accuracy: the proposed tracker's eq. (32) decision (global, given to every node) "
         "against the true sight, per sample; ranging error of an estimator: | ||p^ - a_i|| - d_i |",
     };

@@ -79,23 +79,44 @@ class K3 : public Scenario {
 
   std::string name() const override { return "K3"; }
   std::string description() const override {
-    return "Ke & Wu 2011 Sec. 6.4: 100 x 100 m, 4 TOA nodes (good: corners; bad: almost collinear), noise "
-           "std 0.02 d, NLOS exponential mean 0.08 d, 1..4 NLOS nodes, L = 200, dt = 0.1 s; P(error <= 5 m)";
+    const auto f = [](double v) { return detail::fmt_num(v); };
+    Mat<8, 2> all;  // both geometries: the area is their bounding box
+    all << p_.good, p_.bad;
+    const double width = all.col(0).maxCoeff() - all.col(0).minCoeff();
+    const double height = all.col(1).maxCoeff() - all.col(1).minCoeff();
+    return "Ke & Wu 2011 Sec. 6.4: " + f(width) + " x " + f(height) +
+           " m, 4 TOA nodes (good: corners; bad: almost collinear), noise std " + f(p_.sigma_rel) +
+           " d, NLOS exponential mean " + f(p_.nlos_rel) +
+           " d, 1..4 NLOS nodes, L = " + std::to_string(p_.steps) + ", dt = " + f(p_.dt) +
+           " s; P(error <= " + f(p_.threshold) + " m)";
   }
   std::vector<std::string> choices() const override {
+    const auto f = [](double v) { return detail::fmt_num(v); };
+    std::string init;
+    for (int i = 0; i < 4; ++i) init += (i > 0 ? ", " : "") + f(p_.initial_std[i]) + "^2";
+    const std::string skip = std::to_string(p_.discard);  // samples left out
+    const std::string iterations = p_.iterated_iterations == 1
+                                       ? std::string("1 iteration")
+                                       : std::to_string(p_.iterated_iterations) + " iterations";
     return {
-        "start (20, 20) m (scenarios.md choice), velocity exactly (0.1, 0.15) m/s, eq. (16) white "
-        "acceleration "
-        "variance 0.01 for the truth and the filters",
-        "NLOS nodes of a case with j NLOS nodes: the last j nodes of the geometry's list (good: (100, 100) "
-        "first; bad: (100, 100) first); NLOS for the whole run",
-        "z_i = d_i + n_i + b_i, n_i ~ N(0, (0.02 d_i)^2), b_i ~ Exp(mean 0.08 d_i), d_i the true distance, "
-        "drawn every step",
-        "initial belief: truth + N(0, diag(2^2, 2^2, 0.1^2, 0.1^2)), covariance the same; first 100 of 200 "
-        "samples left out (Sec. 6's rule); P(error <= 5 m) pooled over runs and samples k >= 100",
-        "all three filters: R_i = (0.02 d^_i)^2 with d^_i the range at the predicted position (the true "
-        "distance is unknown to them); EKF = the proposed tracker with mitigation off",
-        "iterated NLOS EKF: bias prior N(0, 10^2), random walk std 0.5 m/step, 3 iterations, b >= 0",
+        "start " + detail::fmt_point(p_.start[0], p_.start[1]) +
+            " m (scenarios.md choice), velocity exactly " +
+            detail::fmt_point(p_.velocity[0], p_.velocity[1]) +
+            " m/s, eq. (16) white acceleration variance " + f(p_.accel_var) +
+            " for the truth and the filters",
+        "NLOS nodes of a case with j NLOS nodes: the last j nodes of the geometry's list (good: " +
+            detail::fmt_point(p_.good(3, 0), p_.good(3, 1)) + " first; bad: " +
+            detail::fmt_point(p_.bad(3, 0), p_.bad(3, 1)) + " first); NLOS for the whole run",
+        "z_i = d_i + n_i + b_i, n_i ~ N(0, (" + f(p_.sigma_rel) + " d_i)^2), b_i ~ Exp(mean " +
+            f(p_.nlos_rel) + " d_i), d_i the true distance, drawn every step",
+        "initial belief: truth + N(0, diag(" + init + ")), covariance the same; first " + skip + " of " +
+            std::to_string(p_.steps) + " samples left out (Sec. 6's rule); P(error <= " + f(p_.threshold) +
+            " m) pooled over runs and samples k >= " + skip,
+        "all three filters: R_i = (" + f(p_.sigma_rel) +
+            " d^_i)^2 with d^_i the range at the predicted position (the true distance is unknown to them); "
+            "EKF = the proposed tracker with mitigation off",
+        "iterated NLOS EKF: bias prior N(0, " + f(p_.iterated_bias_prior_std) + "^2), random walk std " +
+            f(p_.iterated_bias_walk_std) + " m/step, " + iterations + ", b >= 0",
         "proposed-soft: the proposed tracker with soft threshold lambda = 1 (qp_bias_ekf.hpp, item 4)",
     };
   }

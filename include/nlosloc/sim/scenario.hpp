@@ -8,7 +8,9 @@
 /// Conventions: a Draw has T steps k = 0 .. T-1 at times t_k = k dt. The initial belief is a belief about the
 /// state at k = 0 *before* y_0 is seen, so an estimator updates with y_0 without predicting and predicts then
 /// updates for k >= 1. Matrices are row-major (one row per step) so numpy maps them without reshaping.
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <map>
@@ -21,6 +23,26 @@
 #include "nlosloc/core/random.hpp"
 #include "nlosloc/core/types.hpp"
 #include "nlosloc/models/measurement.hpp"
+
+namespace nlosloc::detail {
+/// A number as Scenario::description() and choices() print it: `digits` significant digits ("%.*g": no
+/// trailing zeros, 0.01, 0.143, 1500), large values in full (20000, 1000000) and a short exponent (1e-5).
+inline std::string fmt_num(double v, int digits = 6) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*g", digits, v);
+  std::string s = b;
+  const std::size_t e = s.find('e');
+  if (e == std::string::npos) return s;  // also "inf", "nan"
+  if (s[e + 1] == '+' && std::abs(v) < 1e15) {
+    std::snprintf(b, sizeof b, "%.0f", v);
+    return b;
+  }
+  for (std::size_t i = e + 2; i + 1 < s.size() && s[i] == '0';) s.erase(i, 1);  // "1e-05" -> "1e-5"
+  return s;
+}
+/// A point "(x, y)" in fmt_num's format.
+inline std::string fmt_point(double x, double y) { return "(" + fmt_num(x) + ", " + fmt_num(y) + ")"; }
+}  // namespace nlosloc::detail
 
 namespace nlosloc::sim {
 
