@@ -235,11 +235,10 @@ class H1 : public Scenario {
   std::vector<std::string> choices() const override {
     const auto f = [](double v) { return detail::fmt_num(v); };
     const auto beta = [&f](double a, double b) { return "Beta(" + f(a) + ", " + f(b) + ")"; };
-    // serving-sector changes along the truth's path (as generate(): constant velocity from start)
-    const Vec<2> v = p_.speed * p_.heading;
+    // serving-sector changes along the truth's path (generate()'s)
     int changes = 0;
     for (int k = 0, prev = -1; k < p_.steps; ++k) {
-      const Vec<2> pos = p_.start + (k * p_.dt) * v;
+      const Vec<2> pos = truth_position(k);
       const int j = serving_sector(std::atan2(pos[1], pos[0]));
       if (prev >= 0 && j != prev) ++changes;
       prev = j;
@@ -252,7 +251,7 @@ class H1 : public Scenario {
     const std::string heading = h[1] == 0.0   ? std::string(h[0] > 0.0 ? "+x" : "-x")
                                 : h[0] == 0.0 ? std::string(h[1] > 0.0 ? "+y" : "-y")
                                               : detail::fmt_point(h[0], h[1]);
-    const double p_n = p_.mean_nlos / (p_.mean_los + p_.mean_nlos);  // eq. (18)
+    const double p_n = sight_.model(0).initial()(1);  // eq. (18): the chain's prior of s_0
     const noise::Rayleigh toa_nlos = noise::Rayleigh::from_variance(p_.toa_nlos_var);
     // initial belief variances as s^2 (a unit std printed as 1)
     std::string init;
@@ -327,6 +326,9 @@ class H1 : public Scenario {
   }
 
  protected:
+  /// The truth's position at step k: constant velocity from the start (Table VII, no process noise).
+  Vec<2> truth_position(int k) const { return p_.start + (k * p_.dt) * (p_.speed * p_.heading); }
+
   void generate(int /*c*/, int T, Rng& rng, Draw& d) const override {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     d.states.resize(T, 4);
@@ -345,7 +347,7 @@ class H1 : public Scenario {
     VecX w(1);
     const MatX q = MatX::Zero(1, 2);
     for (int k = 0; k < T; ++k) {
-      const Vec<2> pos = p_.start + (k * p_.dt) * v;  // constant velocity (Table VII)
+      const Vec<2> pos = truth_position(k);
       if (k > 0) {
         situation::transversal_speeds(pos, v, q, w);  // eq. (10)
         s = sight_.sample_next(s, k, w, rng);         // eq. (17)

@@ -117,7 +117,7 @@ class H2 : public Scenario {
     std::string prior;
     for (int i = 0; i < 6; ++i) prior += (i > 0 ? ", " : "") + f(var[i]);
     const noise::Rayleigh rtoa_nlos = noise::Rayleigh::from_variance(p_.rtoa_nlos_var);
-    const double p_n = p_.mean_nlos / (p_.mean_los + p_.mean_nlos);  // eq. (18), as make_h2_urr
+    const double p_n = sight_.model(0).initial()(1);  // eq. (18): the chains' prior of s_0
     // URR's per-step switch probabilities (eq. 15): one number when E{L_LOS} = E{L_NLOS}
     const double p_ln = urr_switch_probability(0), p_nl = urr_switch_probability(1);
     const std::string switches = p_ln == p_nl ? detail::fmt_num(p_ln, 2)
