@@ -304,6 +304,40 @@ TEST_CASE("TruncatedNormal: half normal, Giremus prior, far tail interval", "[no
   check_moments_by_integration(l);
 }
 
+namespace {
+/// Variance of N(0, 1) on [a, inf) from Laplace's continued fraction of the Mills ratio R = 1/(a + T_1),
+/// T_k = k/(a + T_(k+1)): 1 + a/R - 1/R^2 = (T_2 - T_1)/(a + T_2), free of JKB eq. 13.135's cancellation.
+double mills_variance(double a) {
+  double t = 0.0, t1 = 0.0, t2 = 0.0;
+  for (int k = 4000; k >= 1; --k) {
+    t = k / (a + t);
+    if (k == 2) t2 = t;
+    if (k == 1) t1 = t;
+  }
+  return (t2 - t1) / (a + t2);
+}
+}  // namespace
+
+TEST_CASE("TruncatedNormal: variance next to a far or narrow bound", "[noise]") {
+  // JKB eq. 13.135 sums terms of order alpha^2 to a small variance: 2.6e-5 relative error on [5, 5.001],
+  // 5e-8 on [30, inf) before the quadrature. References: scipy.integrate.quad of the moments in the offset
+  // u = z - lower (density exp(-lower u - u^2/2), epsrel 1e-13), and the continued fraction above.
+  CHECK_THAT(TruncatedNormal(0.0, 1.0, 5.0, 5.001).variance(), WithinRel(8.333322636822359e-08, 1e-12));
+  CHECK_THAT(TruncatedNormal(0.0, 1.0, 30.0, 30.2).variance(), WithinRel(0.0010070068634032321, 1e-12));
+  CHECK_THAT(TruncatedNormal(0.0, 1.0, -30.2, -30.0).variance(), WithinRel(0.0010070068634032321, 1e-12));
+  for (const double a : {5.0, 20.0, 30.0, 37.0}) {
+    CHECK_THAT(TruncatedNormal(0.0, 1.0, a, kInf).variance(), WithinRel(mills_variance(a), 1e-12));
+    CHECK_THAT(TruncatedNormal(2.0, 3.0, 2.0 + 3.0 * a, kInf).variance(),
+               WithinRel(9.0 * mills_variance(a), 1e-12));
+  }
+  CHECK_THAT(TruncatedNormal(0.0, 1.0, -kInf, -37.0).variance(), WithinRel(mills_variance(37.0), 1e-12));
+  // a narrow interval about the mode: w^2/12 (1 - w^2/30 + O(w^4)) for [-w/2, w/2]
+  const double w = 0.002;
+  CHECK_THAT(TruncatedNormal(0.0, 1.0, -0.001, 0.001).variance(),
+             WithinRel(w * w / 12.0 * (1.0 - w * w / 30.0), 1e-12));
+  CHECK_THAT(TruncatedNormal(0.0, 1.0, -40.0, 40.0).variance(), WithinRel(1.0, 1e-15));
+}
+
 TEST_CASE("ShiftedNormal: Ke & Wu NLOS bias", "[noise]") {
   const ShiftedNormal d(513.0, 436.0);
   CHECK(d.shift() == 513.0);
@@ -417,6 +451,17 @@ TEST_CASE("Beta: Grisales quality statistics", "[noise]") {
   CHECK_THAT(Beta(2.0, 5.0).quantile(1e-100), WithinRel(2.5819888974716112e-51, 1e-13));
   CHECK_THAT(los.cdf(los.from_standard_normal(-30.0)), WithinRel(4.906713927147908e-198, 1e-10));  // Phi(-30)
   CHECK(Beta(1.5, 4.0).from_standard_normal(30.0) == 1.0);  // 1 - y, y ~ 1e-50
+  // Boost's root at p = 1e-300 was 3e-4 off for Beta(50, 20) (its cdf 2% off p) and its cdf of
+  // Beta(300, 20) 0 at 1e-295: Newton's method on log I = log p with the series of DLMF 8.17.8 refines it.
+  for (const auto& [a, b] : {std::pair{50.0, 20.0}, {20.0, 2.0}, {300.0, 20.0}}) {
+    const Beta d(a, b);
+    for (const double p : {1e-300, 1e-295, 1e-150}) {
+      const double x = d.quantile(p);
+      CHECK_THAT(d.cdf(x), WithinRel(p, 1e-12));
+      CHECK(std::abs(d.cdf(x) - p) / (d.pdf(x) * x) < 1e-13);  // x's relative error, to first order
+      CHECK_THAT(1.0 - Beta(b, a).quantile(1.0 - 1e-10), WithinRel(Beta(a, b).quantile(1e-10), 1e-5));
+    }
+  }
 }
 
 TEST_CASE("Empirical: Silverman Gaussian KDE as scipy", "[noise]") {

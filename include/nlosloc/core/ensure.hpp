@@ -2,6 +2,7 @@
 /// \file ensure.hpp
 /// Argument checking: NLOSLOC_ENSURE(cond, msg) throws std::invalid_argument with msg when cond is false.
 /// The throwing path is out of line and cold so the check costs one branch on the hot path.
+#include <charconv>
 #include <stdexcept>
 #include <string>
 
@@ -20,6 +21,12 @@ namespace detail {
 }
 [[noreturn, gnu::cold, gnu::noinline]] inline void throw_numerical_error(const std::string& msg) {
   throw NumericalError(msg);
+}
+/// Shortest round-trip text of a double ("-1", "0.25", "inf", "nan") for error messages.
+inline std::string fmt_shortest(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 }  // namespace detail
 }  // namespace nlosloc
