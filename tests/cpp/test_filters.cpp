@@ -124,6 +124,19 @@ TEST_CASE("a NaN row is the same as leaving the row out", "[filters][missing]") 
   CHECK((c.mean() - d.mean()).norm() < 1e-9);
   CHECK_THAT(rc.log_likelihood, WithinAbs(rd.log_likelihood, 1e-12));
   CHECK(ra.rows_used == 2);
+  // The augmented UKF leaves the missing row's noise input out of the set (n + q_a = 6, not 7): with it
+  // the cubature points of the other rows spread by sqrt(7) instead of sqrt(6) (0.012 m apart in 5 steps).
+  for (const SigmaScheme& sc : {SigmaScheme::scaled(0.5), SigmaScheme::cubature()}) {
+    UkfAugmented<ConstantVelocity2> e(motion, full, g, sc), f(motion, part, g, sc);
+    for (int k = 0; k < 5; ++k) {
+      const StepResult re = e.step(y3), rf = f.step(y2);
+      CHECK_THAT(re.log_likelihood, WithinRel(rf.log_likelihood, 1e-12));
+      CHECK(re.rows_used == 2);
+    }
+    CHECK((e.mean() - f.mean()).norm() < 1e-9);
+    CHECK((e.cov() - f.cov()).norm() < 1e-7);
+    CHECK(e.augmented_dim() == 7);
+  }
   // All rows missing: a pure prediction.
   VecX none = VecX::Constant(3, NAN);
   const Vec<4> before = motion.F() * a.mean();
@@ -262,4 +275,41 @@ TEST_CASE("augmented UKF uses the exact two-way-ranging noise", "[filters][ukf][
   }
   CHECK((f.mean().tail<2>() - x.tail<2>()).norm() < 0.1);
   CHECK_THAT(f.mean()[0], WithinAbs(x[0], 1e-8));
+
+  // A missing pair (both rows of anchor 3) leaves its five inputs out; a missing T row (eq. 20) only n^C
+  // and n^D, which its tau row (eq. 17) does not read: each equals the filter on a stack without them.
+  MeasurementStack three(TwoWayClock::layout(), anchors.topRows(3), 1);
+  for (int b = 0; b < 3; ++b) three.add_twr(b, b, 5e-6, 1e-6, 0.2e-9, {std::nullopt});
+  UkfAugmented<TwoWayClock> h(motion, st, g, SigmaScheme::scaled(1.0, 2.0, 0.0)),
+      h3(motion, three, g, SigmaScheme::scaled(1.0, 2.0, 0.0));
+  x = g.mean;
+  for (int k = 0; k < 20; ++k) {
+    x = motion.F() * x;
+    for (int j = 0; j < u.size(); ++j) u[j] = rng.normal();
+    st.predict_augmented(x, h.time() + motion.dt(), u, s, y);
+    VecX y8 = y;
+    y8.tail<2>().setConstant(NAN);
+    const StepResult r8 = h.step(y8), r6 = h3.step(y.head<6>());
+    CHECK_THAT(r8.log_likelihood, WithinRel(r6.log_likelihood, 1e-10));
+  }
+  CHECK(((h.mean() - h3.mean()).array().abs() <= 1e-9 * h3.mean().array().abs() + 1e-15).all());
+  // Which inputs stay: the T row of anchor 0 missing drops n^C and n^D of its pair (18 of 20 stay); its
+  // tau row missing drops none, since the T row reads all five.
+  detail::AugmentedMoments<6> mom;
+  const SigmaScheme sc = SigmaScheme::cubature();
+  mom.resize(8, st.noise_dim(), sc);
+  VecX zhat(8), yt = y;
+  MatX S(8, 8);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> Pxz(6, 8);
+  const Mat<6, 6> L = h.cov().llt().matrixL();
+  const auto inputs_with = [&](int missing) {
+    yt = y;
+    if (missing >= 0) yt[missing] = NAN;
+    mom.compute(st, h.mean(), L, sc.weights(6 + 20), h.time(), s, zhat, S, Pxz, &yt);
+    return mom.active_inputs();
+  };
+  CHECK(inputs_with(-1) == 20);
+  CHECK(inputs_with(1) == 18);
+  CHECK(inputs_with(0) == 20);
+  CHECK(inputs_with(7) == 18);
 }

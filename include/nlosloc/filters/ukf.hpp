@@ -7,6 +7,10 @@
 /// A textbook UKF that propagates sigma points through f and reuses them in the update gives the same
 /// mean and covariance up to rounding for linear f, but not the same sigma points; FilterPy comparisons
 /// therefore redraw FilterPy's sigmas_f from (x, P) after its predict (tests/python/test_filterpy.py).
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include "nlosloc/core/sigma_points.hpp"
 #include "nlosloc/filters/filter_base.hpp"
 #include "nlosloc/models/measurement.hpp"
@@ -76,24 +80,46 @@ class SigmaMoments {
 /// Unscented moments with the measurement noise inside the sigma points (Huerta Table III, eqs. 49-51 over
 /// the augmented vector [x; u], u ~ N(0, I_q) mapped through each row's quantile, Grisales eq. 29): from
 /// (x, L) and the sight `s`, z_hat, S (noise included) and Pxz. Shared by UkfAugmented and the RBPF bank.
+/// With missing rows (NaN in y) the transform runs over [x; u_a], u_a the inputs that the present rows
+/// read (MeasurementStack::for_each_input), with the weights of n + q_a: the inputs of a missing row would
+/// otherwise stay in the set as dimensions that move no used row and still change the weights and the
+/// spread, and the update would differ from the one of a stack built without that row.
 template <int N>
 class AugmentedMoments {
  public:
-  void resize(int m, int q) {
+  /// Buffers for m rows and q inputs, and the weights of `scheme` for every n + q_a, q_a <= q (none where
+  /// the scheme has no weights for that dimension: then a step with those rows missing keeps all inputs).
+  void resize(int m, int q, const SigmaScheme& scheme) {
     q_ = q;
     const int K = 2 * (N + q) + 1;
     Z_.setZero(m, K);
     Zw_.setZero(m, K);
     D_.setZero(m, N);
     u_.setZero(q);
+    used_.assign(static_cast<std::size_t>(q), 0);
+    active_.assign(static_cast<std::size_t>(q), 0);
+    wtab_.assign(static_cast<std::size_t>(q) + 1, SigmaWeights{});
+    wok_.assign(static_cast<std::size_t>(q) + 1, 0);
+    for (int qa = 0; qa <= q; ++qa) {
+      try {  // a negative kappa may leave the smaller dimensions without weights (n + kappa <= 0)
+        wtab_[static_cast<std::size_t>(qa)] = scheme.weights(N + qa);
+        wok_[static_cast<std::size_t>(qa)] = 1;
+      } catch (const std::invalid_argument&) {
+      }
+    }
   }
 
-  /// `w` are the weights of dimension N + q (eq. 49 with L_a = n + q).
+  /// `w` are the weights of dimension N + q (eq. 49 with L_a = n + q). y: the measurement, whose NaN rows
+  /// leave their inputs out of the set (null: every row present).
   template <class Meas>
   void compute(const Meas& meas, const Vec<N>& x, const Mat<N, N>& L, const SigmaWeights& w, double t,
-               const VecXi& s, VecX& zhat, MatX& S, Eigen::Matrix<double, N, Eigen::Dynamic>& Pxz) {
-    const double g = w.gamma;
-    // Points of blockdiag(P, I_q) around (x, 0): state directions, then noise directions (eq. 49).
+               const VecXi& s, VecX& zhat, MatX& S, Eigen::Matrix<double, N, Eigen::Dynamic>& Pxz,
+               const VecX* y = nullptr) {
+    const SigmaWeights& wa = select_inputs(meas, w, y);
+    const int qa = qa_;
+    const double g = wa.gamma;
+    const int La = N + qa, Ka = 2 * La + 1;
+    // Points of blockdiag(P, I_qa) around (x, 0): state directions, then noise directions (eq. 49).
     u_.setZero();
     auto eval = [&](const Vec<N>& xj, Eigen::Index col) {
       auto z = Z_.col(col);
@@ -102,33 +128,65 @@ class AugmentedMoments {
     eval(x, 0);
     for (int i = 0; i < N; ++i) {
       eval(x + g * L.col(i), 1 + i);
-      eval(x - g * L.col(i), 1 + N + q_ + i);
+      eval(x - g * L.col(i), 1 + La + i);
     }
-    for (int k = 0; k < q_; ++k) {
-      u_[k] = g;
+    for (int k = 0; k < qa; ++k) {
+      const int in = active_[static_cast<std::size_t>(k)];
+      u_[in] = g;
       eval(x, 1 + N + k);
-      u_[k] = -g;
-      eval(x, 1 + 2 * N + q_ + k);
-      u_[k] = 0.0;
+      u_[in] = -g;
+      eval(x, 1 + La + N + k);
+      u_[in] = 0.0;
     }
-    sigma_mean(meas, Z_, w, zhat);  // eq. (51)
-    for (Eigen::Index j = 0; j < Z_.cols(); ++j) Z_.col(j) -= zhat;
-    meas.wrap_residual_cols(Z_);
-    const int Laug = N + q_;
-    Zw_ = Z_;
-    Zw_.col(0) *= w.wc0;
-    Zw_.rightCols(Z_.cols() - 1) *= w.wi;
-    S.noalias() = Zw_.lazyProduct(Z_.transpose());  // eq. (51), noise inside the points
+    auto Z = Z_.leftCols(Ka);
+    sigma_mean(meas, Z, wa, zhat);  // eq. (51)
+    for (Eigen::Index j = 0; j < Ka; ++j) Z.col(j) -= zhat;
+    meas.wrap_residual_cols(Z);
+    auto Zw = Zw_.leftCols(Ka);
+    Zw = Z;
+    Zw.col(0) *= wa.wc0;
+    Zw.rightCols(Ka - 1) *= wa.wi;
+    S.noalias() = Zw.lazyProduct(Z.transpose());  // eq. (51), noise inside the points
     // Only the state directions have x deviations, +-g L(:,i): Pxz = sum_i wi g L(:,i) (Z+i - Z-i)^T.
-    for (int i = 0; i < N; ++i) D_.col(i) = Z_.col(1 + i) - Z_.col(1 + Laug + i);
-    Pxz.noalias() = (w.wi * g) * L.lazyProduct(D_.transpose());
+    for (int i = 0; i < N; ++i) D_.col(i) = Z.col(1 + i) - Z.col(1 + La + i);
+    Pxz.noalias() = (wa.wi * g) * L.lazyProduct(D_.transpose());
   }
 
+  /// Inputs in the last compute(): q_a, and their indices.
+  int active_inputs() const { return qa_; }
+
  private:
-  int q_ = 0;
+  /// Fills active_[0, qa_) with the inputs read by the rows of y that are not NaN, in input order, and
+  /// returns their weights; every input and `w` when no row is missing (or the scheme has no weights for
+  /// the smaller dimension).
+  template <class Meas>
+  const SigmaWeights& select_inputs(const Meas& meas, const SigmaWeights& w, const VecX* y) {
+    qa_ = q_;
+    for (int k = 0; k < q_; ++k) active_[static_cast<std::size_t>(k)] = k;
+    if (!y || !y->hasNaN()) return w;
+    std::fill(used_.begin(), used_.end(), char{0});
+    for (int i = 0; i < meas.rows(); ++i)
+      if (!std::isnan((*y)[i]))
+        meas.for_each_input(i, [this](int k) { used_[static_cast<std::size_t>(k)] = 1; });
+    int qa = 0;
+    for (int k = 0; k < q_; ++k)
+      if (used_[static_cast<std::size_t>(k)]) active_[static_cast<std::size_t>(qa++)] = k;
+    if (qa == q_ || !wok_[static_cast<std::size_t>(qa)]) {
+      for (int k = 0; k < q_; ++k) active_[static_cast<std::size_t>(k)] = k;
+      return w;
+    }
+    qa_ = qa;
+    return wtab_[static_cast<std::size_t>(qa)];
+  }
+
+  int q_ = 0, qa_ = 0;
   MatX Z_, Zw_;
   Eigen::Matrix<double, Eigen::Dynamic, N> D_;
   VecX u_;
+  std::vector<char> used_;
+  std::vector<int> active_;
+  std::vector<SigmaWeights> wtab_;
+  std::vector<char> wok_;
 };
 }  // namespace detail
 
@@ -230,7 +288,7 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
     w_ = scheme.weights(kDim + q_);  // L_a = n + q (Huerta eq. 49)
     const int m = meas.rows();
     tail_.resize(m);
-    mom_.resize(m, q_);
+    mom_.resize(m, q_, scheme);
     y_.setZero(m);
     los_.setZero(meas.num_anchors());
   }
@@ -256,7 +314,7 @@ class UkfAugmented : public FilterBase<UkfAugmented<Motion, Meas>, Motion> {
     res.status = st;
     if (st == CholeskyStatus::kFailed) Base::fail("UkfAugmented.update: P");
     auto& t = tail_;
-    mom_.compute(meas_, this->x_, L, w_, this->t_, s, t.zhat, t.S, t.Pxz);  // Table III, eqs. (49)-(51)
+    mom_.compute(meas_, this->x_, L, w_, this->t_, s, t.zhat, t.S, t.Pxz, &y_);  // Table III, eqs. (49)-(51)
     if (!t.apply(
             y_, [this](VecX& r) { meas_.wrap_residual(r); }, this->x_, this->P_, res))
       Base::fail("UkfAugmented.update: S");

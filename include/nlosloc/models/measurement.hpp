@@ -150,6 +150,20 @@ class MeasurementStack {
   // ---- queries ----------------------------------------------------------------------------------
   int rows() const { return static_cast<int>(rows_.size()); }
   int noise_dim() const { return noise_dim_; }
+  /// Calls f(k) for each augmented noise input k that row i's value reads in predict_augmented: a TWR
+  /// pair's tau row (eq. 17) reads n^A, n^B and Gamma of the pair's five, its T row (eq. 20) all five.
+  template <class F>
+  void for_each_input(int i, F&& f) const {
+    const MeasurementRow& r = rows_[static_cast<std::size_t>(i)];
+    if (r.kind == RowKind::kTwrTau) {
+      for (const int k : {0, 1, 4}) f(r.input + k);
+    } else if (r.kind == RowKind::kTwrT) {
+      const int first = rows_[static_cast<std::size_t>(i) - 1].input;  // the tau row's inputs
+      for (int k = 0; k < 5; ++k) f(first + k);
+    } else {
+      for (int k = 0; k < r.inputs; ++k) f(r.input + k);
+    }
+  }
   int num_anchors() const { return static_cast<int>(anchors_.rows()); }
   int num_conditions() const { return num_conditions_; }
   const StateLayout& layout() const { return layout_; }

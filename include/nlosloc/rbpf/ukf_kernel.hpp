@@ -33,7 +33,7 @@ class UkfKernel {
     const int m = meas.rows();
     tail_.resize(m);
     if (form == NoiseForm::kAugmented) {
-      aug_.resize(m, meas.noise_dim());
+      aug_.resize(m, meas.noise_dim(), scheme);
       return;
     }
     mom_.resize(m);
@@ -77,7 +77,7 @@ class UkfKernel {
     res.jitter = jitter_;
     auto& t = tail_;
     if (form_ == NoiseForm::kAugmented) {
-      aug_.compute(*meas_, xp_, L_, w_, t_, s, t.zhat, t.S, t.Pxz);  // Table III.1, eqs. (49)-(51)
+      aug_.compute(*meas_, xp_, L_, w_, t_, s, t.zhat, t.S, t.Pxz, &y);  // Table III.1, eqs. (49)-(51)
     } else {
       meas_->noise_moments(xp_, s, nmean_, R_);
       t.S = S0_;
