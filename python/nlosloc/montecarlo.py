@@ -56,8 +56,8 @@ def run(
         Registered estimator names, ``(name, factory)`` pairs of estimators written in Python
         (an object with ``reset(draw, rng)``, ``step(k, y, o) -> position`` and optionally
         ``sight_estimate()``) and ``(name, filter)`` pairs with a filter, tracker or snapshot
-        baseline object that runs natively (see :func:`nlosloc.sim.run_monte_carlo`); default all
-        registered for the scenario.
+        baseline object that runs natively (see :func:`nlosloc.sim.run_monte_carlo`); default
+        (None) all registered for the scenario. An empty list raises ValueError.
     threads : int, default 0
         Worker threads (0 = every core) of each run_monte_carlo call. The result does not depend
         on it. With ``executor``, set it to the cores each of its workers may use.
@@ -96,6 +96,11 @@ def run(
             "got a single string"
         )
     est = list(estimators) if estimators is not None else None
+    if est == []:  # before any worker starts; as nlosloc.sim.run_monte_carlo
+        raise ValueError(
+            "estimators: expected at least one estimator, got an empty list "
+            "(None: every estimator registered for the scenario)"
+        )
     if executor is not None:
         return _run_chunks(
             name, case, runs, seed, est, threads, steps, progress, first_run, executor, chunk_runs

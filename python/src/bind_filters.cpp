@@ -130,7 +130,8 @@ void measurement_methods(Cls& c) {
   using A = AnyFilter<F>;
   c.def(
        "update",
-       [](A& a, const VecX& y, const py::object& sight) {
+       [](A& a, const bind::VecArg& y_in, const py::object& sight) {
+         const VecX y = y_in.get("y");
          const auto s = sight_arg(sight);
          return a.visit([&](auto& f) { return f.update(y, s ? &*s : nullptr); });
        },
@@ -139,7 +140,8 @@ void measurement_methods(Cls& c) {
        "StepResult with the predictive log-likelihood.")
       .def(
           "step",
-          [](A& a, const VecX& y, const py::object& sight) {
+          [](A& a, const bind::VecArg& y_in, const py::object& sight) {
+            const VecX y = y_in.get("y");
             const auto s = sight_arg(sight);
             return a.visit([&](auto& f) { return f.step(y, s ? &*s : nullptr); });
           },
@@ -204,10 +206,18 @@ void define_module(py::module_& m) {
         .def_property_readonly("rows",
                                [](const A& a) { return a.visit([](const auto& f) { return f.rows(); }); })
         .def(
-            "update", [](A& a, const VecX& y) { return a.visit([&](auto& f) { return f.update(y); }); },
+            "update",
+            [](A& a, const bind::VecArg& y_in) {
+              const VecX y = y_in.get("y");
+              return a.visit([&](auto& f) { return f.update(y); });
+            },
             py::arg("y"), "Update with y (m,), NaN = missing.")
         .def(
-            "step", [](A& a, const VecX& y) { return a.visit([&](auto& f) { return f.step(y); }); },
+            "step",
+            [](A& a, const bind::VecArg& y_in) {
+              const VecX y = y_in.get("y");
+              return a.visit([&](auto& f) { return f.step(y); });
+            },
             py::arg("y"), "predict() then update(y).");
   }
   {

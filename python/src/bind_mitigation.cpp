@@ -16,6 +16,7 @@
 
 #include "batch.hpp"
 #include "bind.hpp"
+#include "motion_arg.hpp"
 #include "native_makers.hpp"
 #include "nlosloc/mitigation/mitigation.hpp"
 #include "nlosloc/sim/k1.hpp"
@@ -58,6 +59,8 @@ class PythonBoxQp final : public BoxQp {
           "lower, upper), got " +
           bind::describe(*obj_));
     solve_ = bind::share(std::move(solve));
+    work_.setZero(n, n);
+    perm_.setZero(n);
     const py::object nm = py::getattr(*obj_, "name", py::none());
     name_ = py::isinstance<py::str>(nm)
                 ? nm.cast<std::string>()
@@ -81,7 +84,7 @@ class PythonBoxQp final : public BoxQp {
 
   QpResult solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,
                  const Eigen::Ref<const VecX>& lower, const Eigen::Ref<const VecX>& upper) override {
-    mitigation::detail::check_box_qp(n_, H, g, lower, upper);
+    mitigation::detail::check_box_qp(n_, H, g, lower, upper, work_, perm_);  // H symmetric PSD, as built-ins
     QpResult res;
     res.objective = std::nan("");
     py::gil_scoped_acquire gil;
@@ -120,6 +123,8 @@ class PythonBoxQp final : public BoxQp {
   int n_;
   std::string name_;
   VecX x_;
+  MatX work_;   // scratch of the H check (n x n)
+  VecXi perm_;  // scratch of the H check (n)
 };
 
 /// The trackers' `solver` argument: a name (solver_by_name; "default" gives null when `default_null`, the
@@ -227,7 +232,9 @@ void define_module(pybind11::module_& m) {
             return q.solve(H, g, lower, upper);
           },
           py::arg("H"), py::arg("g"), py::arg("lower"), py::arg("upper"),
-          "Solves the QP. H (n, n) symmetric PSD, g, lower, upper (n,), lower <= upper; returns QpResult.")
+          "Solves the QP. H (n, n) symmetric (to 1e-10 of its largest |entry|) positive semidefinite (to "
+          "n 1e-12 of its largest diagonal entry), g, lower, upper (n,) finite, lower <= upper, else "
+          "ValueError naming the argument; returns QpResult.")
       .def_property_readonly(
           "x", [](const BoxQp& q) { return VecX(q.x()); }, "Minimiser of the last solve (n,).")
       .def_property_readonly(
@@ -316,7 +323,8 @@ void define_module(pybind11::module_& m) {
       },
       py::arg("anchors"), py::arg("z"), py::arg("hint") = py::none(),
       "Centre of the feasible region of the range discs (Ke & Wu Sec. 3): mean of the region's vertices; "
-      "without vertices, `hint` if given, else the least-squares range fit.");
+      "without vertices, `hint` if given, else the least-squares range fit. anchors (M, 2) finite, M >= 2; "
+      "z (M,) finite ranges >= 0; else ValueError naming the argument.");
 
   py::class_<BiasEstimate>(m, "BiasEstimate", "Result of BiasEstimator.estimate (Sec. 3).")
       .def_readonly("bias", &BiasEstimate::bias, "b^ of eq. (14) (M,), m.")
@@ -352,7 +360,8 @@ void define_module(pybind11::module_& m) {
            py::arg("innovation"), py::arg("D"),
            "Eqs. (12)-(15) referenced to a tracker's prediction: r = innovation (M,) (eq. 26), L = I, "
            "Sigma_v = D (M, M) (eq. 27: F P F^T + R), bounds from the ranges z (M,); returns a BiasEstimate "
-           "copy.")
+           "copy. D must be finite, symmetric and positive definite, else ValueError naming D (the "
+           "estimator unchanged).")
       .def_property("sparsity", &BiasEstimator::sparsity, &BiasEstimator::set_sparsity,
                     "L1 tie-break weight added to eq. (14) (0 = plain eq. 14).")
       .def_property("soft_threshold", &BiasEstimator::soft_threshold, &BiasEstimator::set_soft_threshold,
@@ -398,8 +407,9 @@ void define_module(pybind11::module_& m) {
                      "PREDICTION only: lambda of an L1 term on eq. (14) keeping rows within about lambda "
                      "standard deviations as LOS (0 = eq. 14 as written; not in the paper).")
       .def("validate", &QpBiasEkfOptions::validate,
-           "Raises ValueError naming the field (options.gamma, options.noise.*, options.soft_threshold) "
-           "that QpBiasEkf would refuse; the fields are not checked when set.");
+           "Raises ValueError naming the field (options.gamma, options.noise.*, options.sparsity, "
+           "options.reference, options.soft_threshold) that QpBiasEkf would refuse, with the message "
+           "QpBiasEkf gives; the fields are not checked when set.");
 
   py::class_<MitigationStep>(m, "MitigationStep", "What one QpBiasEkf update reports.")
       .def_readonly("filter", &MitigationStep::filter, "StepResult (log-likelihood, rows used, status).")
@@ -446,8 +456,10 @@ void define_module(pybind11::module_& m) {
           "An independent tracker in the same state, the last step's report included (its solver copied "
           "as QpBiasEkf.solver).")
       .def("predict", &QpBiasEkf::predict, "Eqs. (20)-(21).")
-      .def("update", &QpBiasEkf::update, py::arg("z"), "Update with ranges z (M,), NaN = missing.")
-      .def("step", &QpBiasEkf::step, py::arg("z"), "predict() then update(z).")
+      .def("update", bind::vector_method<QpBiasEkf, &QpBiasEkf::update>("z"), py::arg("z"),
+           "Update with ranges z (M,), NaN = missing.")
+      .def("step", bind::vector_method<QpBiasEkf, &QpBiasEkf::step>("z"), py::arg("z"),
+           "predict() then update(z).")
       .def(
           "run",
           [](QpBiasEkf& f, const RowMat& Z, bool first_is_update) {
@@ -522,8 +534,8 @@ void define_module(pybind11::module_& m) {
            py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
            py::arg_v("options", BiasAugmentedEkfOptions(), "BiasAugmentedEkfOptions()"), py::arg("t0") = 0.0)
       .def("predict", &BiasAugmentedEkf::predict)
-      .def("update", &BiasAugmentedEkf::update, py::arg("z"))
-      .def("step", &BiasAugmentedEkf::step, py::arg("z"))
+      .def("update", bind::vector_method<BiasAugmentedEkf, &BiasAugmentedEkf::update>("z"), py::arg("z"))
+      .def("step", bind::vector_method<BiasAugmentedEkf, &BiasAugmentedEkf::step>("z"), py::arg("z"))
       .def_property_readonly(
           "mean", [](const BiasAugmentedEkf& f) { return VecX(f.mean()); },
           "[x, y, vx, vy, b_1..b_M] (a copy).")

@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "bind.hpp"
+#include "int_arg.hpp"
 #include "motion_arg.hpp"
 #include "nlosloc/models/measurement.hpp"
 #include "nlosloc/models/motion.hpp"
@@ -155,8 +156,9 @@ void define_module(py::module_& m) {
       .def("twr_params", &MeasurementStack::twr_params, py::arg("i"), py::return_value_policy::copy,
            "Parameters of two-way-ranging row i (either row of its pair), as given to add_twr.")
       .def(
-          "linear_h", [](const MeasurementStack& s, int i) { return VecX(s.linear_h(i)); }, py::arg("i"),
-          "h of linear row i (y = h^T x + n), a copy.")
+          "linear_h",
+          [](const MeasurementStack& s, bind::IndexArg i) { return VecX(s.linear_h(i.get("i"))); },
+          py::arg("i"), "h of linear row i (y = h^T x + n), a copy.")
       .def(
           "predict",
           [](const MeasurementStack& s, const VecX& x, double t) {

@@ -121,7 +121,8 @@ void summary_methods(C& c) {
           "The Gaussian summary as a tuple (mean (n,), cov (n, n)).")
       .def(
           "check_inputs",
-          [](const A& a, const VecX& y, const VecX& o) {
+          [](const A& a, const bind::VecArg& y_in, const bind::VecArg& o_in) {
+            const VecX y = y_in.get("y"), o = o_in.get("o");
             a.visit([&](const auto& f) { f.check_inputs(y, o); });
           },
           py::arg("y"), py::arg("o"),
@@ -363,7 +364,8 @@ void define_module(py::module_& m) {
     summary_methods<A>(c);
     c.def(
          "step",
-         [](A& a, const VecX& y, const VecX& o) {
+         [](A& a, const bind::VecArg& y_in, const bind::VecArg& o_in) {
+           const VecX y = y_in.get("y"), o = o_in.get("o");
            py::gil_scoped_release rel;
            return a.visit([&](auto& f) { return f.step(y, o); });
          },
@@ -384,24 +386,34 @@ void define_module(py::module_& m) {
                                [](const A& a) { return a.visit([](const auto& f) { return f.weights(); }); })
         .def(
             "particle_mean",
-            [](const A& a, int i) {
+            [](const A& a, bind::IndexArg i_arg) {
+              const int i = i_arg.get("i");
               return a.visit([&](const auto& f) { return VecX(f.particle_mean(i)); });
             },
             py::arg("i"))
         .def(
             "particle_cov",
-            [](const A& a, int i) { return a.visit([&](const auto& f) { return MatX(f.particle_cov(i)); }); },
+            [](const A& a, bind::IndexArg i_arg) {
+              const int i = i_arg.get("i");
+              return a.visit([&](const auto& f) { return MatX(f.particle_cov(i)); });
+            },
             py::arg("i"))
         .def(
             "particle_situation",
-            [](const A& a, int i) { return a.visit([&](const auto& f) { return f.particle_situation(i); }); },
+            [](const A& a, bind::IndexArg i_arg) {
+              const int i = i_arg.get("i");
+              return a.visit([&](const auto& f) { return f.particle_situation(i); });
+            },
             py::arg("i"))
         .def_property_readonly(
             "children_per_particle",
             [](const A& a) { return a.visit([](const auto& f) { return f.children_per_particle(); }); })
         .def(
             "log_weight",
-            [](const A& a, int i) { return a.visit([&](const auto& f) { return f.log_weight(i); }); },
+            [](const A& a, bind::IndexArg i_arg) {
+              const int i = i_arg.get("i");
+              return a.visit([&](const auto& f) { return f.log_weight(i); });
+            },
             py::arg("i"), "Normalised log weight of particle i.")
         .def_property_readonly(
             "num_anchors", [](const A& a) { return a.visit([](const auto& f) { return f.num_anchors(); }); })
@@ -428,7 +440,8 @@ void define_module(py::module_& m) {
     summary_methods<A>(c);
     c.def(
          "step",
-         [](A& a, const VecX& y, const VecX& o) {
+         [](A& a, const bind::VecArg& y_in, const bind::VecArg& o_in) {
+           const VecX y = y_in.get("y"), o = o_in.get("o");
            py::gil_scoped_release rel;
            return a.visit([&](auto& f) { return f.step(y, o); });
          },
@@ -475,7 +488,8 @@ void define_module(py::module_& m) {
     bind::def_set_belief<A>(c);
     c.def(
          "step",
-         [](A& a, const VecX& y, const py::object& o, const py::object& sight) {
+         [](A& a, const bind::VecArg& y_in, const py::object& o, const py::object& sight) {
+           const VecX y = y_in.get("y");
            NLOSLOC_ENSURE(o.is_none() != sight.is_none(),
                           "o, sight: expected exactly one of the quality statistics o or a known sight");
            if (!o.is_none()) {
@@ -490,7 +504,8 @@ void define_module(py::module_& m) {
          "situation (one-hot probabilities: the plain UKF). Returns a StepResult.")
         .def(
             "step_quality",
-            [](A& a, const VecX& y, const VecX& o) {
+            [](A& a, const bind::VecArg& y_in, const bind::VecArg& o_in) {
+              const VecX y = y_in.get("y"), o = o_in.get("o");
               return a.visit([&](auto& f) { return f.step_quality(y, o); });
             },
             py::arg("y"), py::arg("o"),
@@ -519,7 +534,8 @@ void define_module(py::module_& m) {
         .def("predict", [](A& a) { a.visit([](auto& f) { f.predict(); }); })
         .def(
             "update_with_probabilities",
-            [](A& a, const VecX& y, const MatX& gamma) {
+            [](A& a, const bind::VecArg& y_in, const MatX& gamma) {
+              const VecX y = y_in.get("y");
               return a.visit([&](auto& f) { return f.update_with_probabilities(y, gamma); });
             },
             py::arg("y"), py::arg("gamma"), "Update with explicit (B, N_z) condition probabilities.")
@@ -541,8 +557,11 @@ void define_module(py::module_& m) {
         py::arg("num_particles"), "d_min = sigma^2 / (10 M), Huerta eq. (31).");
   m.def(
       "merge_greedy",
-      [](const std::vector<std::uint64_t>& keys, const MatX& means, VecX logw, double d_min, bool with_pairs,
-         int threads) -> py::tuple {
+      [](const std::vector<bind::UInt64Arg>& key_args, const MatX& means, VecX logw, double d_min,
+         bool with_pairs, int threads) -> py::tuple {
+        std::vector<std::uint64_t> keys(key_args.size());
+        for (std::size_t i = 0; i < keys.size(); ++i)
+          keys[i] = key_args[i].get(("keys[" + std::to_string(i) + "]").c_str());
         NLOSLOC_ENSURE(
             static_cast<Eigen::Index>(keys.size()) == means.cols() && logw.size() == means.cols(),
             "keys, means, logw: expected one key, one mean column and one log weight per particle");

@@ -402,7 +402,8 @@ runs : int
 seed : int
     Seed; run r draws from ``Rng(seed, r)``.
 estimators : list, optional
-    Default: every estimator registered for the scenario. Each entry is a registered name (str) or
+    Default (None): every estimator registered for the scenario; an empty list is refused
+    (ValueError). Each entry is a registered name (str) or
     a pair ``(name, factory)`` of an estimator written in Python: ``factory(scenario, case_index)``
     (called once per worker thread) returns an object with ``reset(draw, rng)`` (at the start of
     each run: the draw as :func:`draw` returns it, and the estimator's own ``core.Rng``,

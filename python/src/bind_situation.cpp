@@ -198,7 +198,7 @@ void define_module(py::module_& m) {
       .def("set_probabilities", &ForwardFilter::set_probabilities, py::arg("gamma"),
            "Replaces the probabilities (B, N_z) (rows >= 0 summing to 1); also the prior of the next update.")
       .def("predict", &ForwardFilter::predict, py::arg("speeds") = VecX(), "Prediction, eq. (36).")
-      .def("update", &ForwardFilter::update, py::arg("o"),
+      .def("update", bind::vector_method<ForwardFilter, &ForwardFilter::update>("o"), py::arg("o"),
            "Update with o (B,) (NaN = missing), eqs. (37)-(38); returns log p(o_t | o_1:t-1).")
       .def("step", &ForwardFilter::step, py::arg("o"), py::arg("speeds") = VecX(),
            "predict(speeds) then update(o); a rejected call changes nothing.")

@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -25,6 +26,22 @@ struct UInt64Arg {
   std::uint64_t get(const char* name) const {
     if (!in_range)
       throw pybind11::value_error(std::string(name) + ": expected an integer in [0, 2**64 - 1], got " + repr);
+    return value;
+  }
+};
+
+/// An index argument (a particle or row i): any Python integer. The callee checks the range; one beyond
+/// the range of int raises IndexError naming the argument when read (get), where pybind11's int caster
+/// raised "incompatible function arguments" (TypeError) for 2**31.
+struct IndexArg {
+  int value = 0;
+  bool in_range = true;
+  std::string repr;  ///< the Python value, for the message when beyond int
+
+  int get(const char* name) const {
+    if (!in_range)
+      throw pybind11::index_error(std::string(name) + ": expected an index within the range of int, got " +
+                                  repr);
     return value;
   }
 };
@@ -69,6 +86,34 @@ struct type_caster<nlosloc::bind::UInt64Arg> {
 
   static handle cast(const nlosloc::bind::UInt64Arg& v, return_value_policy, handle) {
     return PyLong_FromUnsignedLongLong(static_cast<unsigned long long>(v.value));
+  }
+};
+
+template <>
+struct type_caster<nlosloc::bind::IndexArg> {
+  PYBIND11_TYPE_CASTER(nlosloc::bind::IndexArg, const_name("int"));
+
+  bool load(handle src, bool /*convert*/) {
+    if (!src || PyFloat_Check(src.ptr())) return false;  // a float index is a TypeError, as for int
+    object idx = reinterpret_steal<object>(PyNumber_Index(src.ptr()));
+    if (!idx) {
+      PyErr_Clear();
+      return false;
+    }
+    int overflow = 0;
+    const long long v = PyLong_AsLongLongAndOverflow(idx.ptr(), &overflow);
+    if (overflow == 0 && v == -1 && PyErr_Occurred()) {
+      PyErr_Clear();
+      return false;
+    }
+    value = nlosloc::bind::IndexArg{};
+    if (overflow != 0 || v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) {
+      value.in_range = false;
+      value.repr = pybind11::repr(idx).cast<std::string>();
+    } else {
+      value.value = static_cast<int>(v);
+    }
+    return true;
   }
 };
 

@@ -102,6 +102,8 @@ inline Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> to_in
 /// naming it: pybind11's own cast would raise a bare RuntimeError. The callee checks the size and values.
 inline VecX to_vector(const pybind11::handle& o, const char* name) {
   namespace py = pybind11;
+  if (o.is_none())  // numpy reads None as a 0-d NaN array
+    throw std::invalid_argument(std::string(name) + ": expected a 1-D float array, got None");
   reject_complex(o, name);
   const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
   if (!a || a.ndim() != 1)
@@ -109,6 +111,21 @@ inline VecX to_vector(const pybind11::handle& o, const char* name) {
                                 (a ? std::to_string(a.ndim()) + " dimensions"
                                    : std::string(py::str(py::type::of(o).attr("__name__")))));
   return Eigen::Map<const VecX>(a.data(), a.shape(0));
+}
+
+/// A float vector argument, converted by to_vector when the function reads it (get), so a wrong shape or
+/// type raises ValueError naming the argument. pybind11's Eigen caster refuses it with a TypeError about the
+/// whole signature ("incompatible function arguments"), e.g. for a (1, m) row sliced from a (T, m) array.
+/// Only for functions without overloads: the caster accepts any object.
+struct VecArg {
+  pybind11::object obj;
+  VecX get(const char* name) const { return to_vector(obj, name); }
+};
+
+/// Binds a method of T taking one vector (z, o, ...) through VecArg, so its errors name `name`.
+template <class T, auto Method>
+auto vector_method(const char* name) {
+  return [name](T& self, const VecArg& v) { return (self.*Method)(v.get(name)); };
 }
 
 /// A (B,) vector of sight conditions (to_int_rows; a 1-D array required).
@@ -120,3 +137,17 @@ inline VecXi to_sight(const pybind11::handle& o, const char* name = "sight") {
 }
 
 }  // namespace nlosloc::bind
+
+namespace pybind11::detail {
+
+template <>
+struct type_caster<nlosloc::bind::VecArg> {
+  PYBIND11_TYPE_CASTER(nlosloc::bind::VecArg, const_name("numpy.typing.ArrayLike"));
+  bool load(handle src, bool /*convert*/) {
+    if (!src) return false;
+    value.obj = reinterpret_borrow<object>(src);
+    return true;
+  }
+};
+
+}  // namespace pybind11::detail

@@ -242,7 +242,11 @@ std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
   const sim::Scenario& s = *scenario;
   std::vector<sim::EstimatorSpec> specs;
   const bool has_registered = reg.has_scenario(s.name());
-  if (!estimators || py::len(*estimators) == 0) {
+  if (estimators && py::len(*estimators) == 0)  // as sim::check_estimator_specs; None means all registered
+    throw py::value_error(
+        "estimators: expected at least one estimator, got an empty list (None: every estimator registered "
+        "for the scenario)");
+  if (!estimators) {
     if (!has_registered)
       throw py::value_error(
           "estimators: scenario '" + s.name() +

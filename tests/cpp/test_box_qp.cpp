@@ -364,3 +364,198 @@ TEST_CASE("QpBiasEkf: a solver that throws leaves the tracker as it was", "[miti
   CHECK(f.mean() == g.mean());
   CHECK(f.bias() == g.bias());
 }
+
+namespace {
+/// The built-in solvers of size n (proxsuite when compiled in), each named.
+std::vector<std::unique_ptr<BoxQp>> built_in_solvers(int n) {
+  std::vector<std::unique_ptr<BoxQp>> s;
+  s.push_back(std::make_unique<EnumerationBoxQp>(n));
+  s.push_back(std::make_unique<FailingBoxQp>(n));
+  if (have_proxsuite_box_qp()) s.push_back(make_proxsuite_box_qp(n));
+  return s;
+}
+}  // namespace
+
+TEST_CASE("box QP: a non-symmetric or indefinite H is refused, naming H, the solver unchanged",
+          "[mitigation][qp][input]") {
+  const VecX lo = VecX::Constant(3, -1.0), hi = VecX::Ones(3), g = Vec<3>(1.0, -1.0, 0.5);
+  for (auto& q : built_in_solvers(3)) {
+    INFO(q->name());
+    // A valid problem first: H = I, x = clip(-g0) = (-1, 0.5, -0.25), x_0 at its lower bound.
+    q->solve(MatX::Identity(3, 3), Vec<3>(2.0, -0.5, 0.25), lo, hi);
+    const VecX x = q->x();
+    // Indefinite: diag(2, -1, 1) has its box minimum -1.875 at (-0.5, 1, -0.5); proxsuite reported a
+    // stationary point (objective 0.125) as solved. The pivots 2, 1 go first, -1 is left on row 1.
+    CHECK_THROWS_WITH(q->solve(Vec<3>(2.0, -1.0, 1.0).asDiagonal().toDenseMatrix(), g, lo, hi),
+                      "H: expected a positive semidefinite matrix, got negative curvature -1 at row 1 "
+                      "(pivoted Cholesky)");
+    // No curvature on rows 1 and 2 but a coupling: the block [0 2; 2 0] has the eigenvalue -2.
+    const MatX coupled = (MatX(3, 3) << 1, 0, 0, 0, 0, 2, 0, 2, 0).finished();
+    CHECK_THROWS_WITH(q->solve(coupled, g, lo, hi),
+                      "H: expected a positive semidefinite matrix, got negative curvature -2 at rows 1, 2 "
+                      "(pivoted Cholesky)");
+    // Non-symmetric (proxsuite read one triangle, the enumeration failed without a word).
+    const MatX asym = (MatX(3, 3) << 2, 1.5, 0, -1.5, 1, 0, 0, 0, 1).finished();
+    CHECK_THROWS_WITH(q->solve(asym, g, lo, hi),
+                      "H: expected a symmetric matrix, got H[0,1] = 1.5 != H[1,0] = -1.5");
+    MatX almost = MatX::Identity(3, 3);
+    almost(2, 0) = 0.25;
+    almost(0, 2) = 0.25 + 3e-10;  // 1e-10 of the largest entry (1) is the tolerance
+    CHECK_THROWS_WITH(
+        q->solve(almost, g, lo, hi),
+        Catch::Matchers::StartsWith("H: expected a symmetric matrix, got H[0,2] = 0.2500000003"));
+    CHECK_THROWS_WITH(q->solve(MatX::Identity(3, 3), g, hi, lo), Catch::Matchers::StartsWith("lower, upper"));
+    // the rejected calls left the last result
+    CHECK(q->x() == x);
+    const auto* e = dynamic_cast<const EnumerationBoxQp*>(q.get());
+    if (e != nullptr) CHECK(e->active_set() == std::vector<int>{1, 0, 0});  // x_0 at its lower bound
+    // Within the tolerances: round-off asymmetry (1e-11 of max |H|) and a pivot -1e-13 >= -3e-12 (n 1e-12
+    // max diag) are accepted as the PSD matrices they approximate.
+    almost(0, 2) = 0.25 + 1e-11;
+    CHECK_NOTHROW(q->solve(almost, g, lo, hi));
+    CHECK_NOTHROW(q->solve(Vec<3>(1.0, -1e-13, 1.0).asDiagonal().toDenseMatrix(), g, lo, hi));
+    CHECK_THROWS_WITH(q->solve(Vec<3>(1.0, -1e-11, 1.0).asDiagonal().toDenseMatrix(), g, lo, hi),
+                      "H: expected a positive semidefinite matrix, got negative curvature -1e-11 at row 1 "
+                      "(pivoted Cholesky)");
+  }
+}
+
+TEST_CASE("box QP: rank-deficient PSD H (zero rows, H = 0, rank 1, A A^T) solve to the box minimum",
+          "[mitigation][qp]") {
+  const VecX lo = Vec<3>(-1.0, 0.0, -2.0), hi = Vec<3>(1.0, 2.0, 0.5);
+  const VecX g = Vec<3>(1.0, -1.0, 0.5);
+  const Vec<3> v(1.0, 2.0, -1.0);
+  // Minima by hand. H = 0: the linear program, x at the bound against g: -1 - 2 - 1 = -4.
+  // H = v v^T (rank 1), f = 1/2 s^2 + g^T x with s = v^T x: x_1 and x_2 free need -1 + 2 s = 0 = 0.5 - s,
+  // so s = 0.5, and x_0 = -1 (gradient 1 + s > 0); on that segment (x_2 = 2 x_1 - 1.5, x_1 in [0, 1])
+  // f = 1/8 - 1 - x_1 + x_2 / 2 = -1.625, a minimiser set, not a point.
+  // Zero row and column 1: diag(2, 0, 1): x_0 = -0.5, x_1 = 2, x_2 = -0.5: -0.25 - 2 - 0.125 = -2.375.
+  struct Case {
+    const char* what;
+    MatX H;
+    double fmin;
+  };
+  Case cases[] = {{"H = 0", MatX::Zero(3, 3), -4.0},
+                  {"rank 1", v * v.transpose(), -1.625},
+                  {"zero row", Vec<3>(2.0, 0.0, 1.0).asDiagonal().toDenseMatrix(), -2.375}};
+  for (auto& q : built_in_solvers(3)) {
+    if (q->name() == "failing") continue;
+    for (const Case& c : cases) {
+      INFO(q->name() << ": " << c.what);
+      const QpResult r = q->solve(c.H, g, lo, hi);
+      REQUIRE(r.ok());
+      CHECK_THAT(r.objective, WithinAbs(c.fmin, 1e-7));
+    }
+  }
+  // H = A A^T with its round-off (asymmetric to ~1e-16, rank 2) passes on every seed of the random test.
+  std::mt19937_64 rng(3);
+  EnumerationBoxQp qp(6);
+  for (int t = 0; t < 200; ++t) {
+    const Problem p = random_problem(rng, 6, 2);
+    MatX H = p.H;
+    H(0, 5) *= 1.0 + 1e-15;  // round-off between the two triangles
+    REQUIRE(qp.solve(H, p.g, p.lower, p.upper).ok());
+  }
+}
+
+namespace {
+/// Everything a BiasEstimator shows: the last estimate and the intermediates of eqs. (9)-(14).
+struct EstimatorView {
+  MatX H0, U, L, Sv, Svg, Hq;
+  VecX y, r, gq, bias, lower, upper;
+  Vec<2> x0, x_tilde;
+  unsigned flags;
+  QpStatus status;
+  int iterations;
+  explicit EstimatorView(const BiasEstimator& e)
+      : H0(e.H0()),
+        U(e.U()),
+        L(e.L()),
+        Sv(e.sigma_v()),
+        Svg(e.sigma_v_ginv()),
+        Hq(e.qp_hessian()),
+        y(e.y()),
+        r(e.r()),
+        gq(e.qp_gradient()),
+        bias(e.last().bias),
+        lower(e.last().lower),
+        upper(e.last().upper),
+        x0(e.last().reference.point),
+        x_tilde(e.last().x_tilde),
+        flags(e.last().flags),
+        status(e.last().qp.status),
+        iterations(e.last().qp.iterations) {}
+};
+/// Bit-equal views (a NaN anywhere would compare unequal: none is expected here).
+void check_same(const EstimatorView& a, const EstimatorView& b) {
+  CHECK(a.H0 == b.H0);
+  CHECK(a.U == b.U);
+  CHECK(a.L == b.L);
+  CHECK(a.Sv == b.Sv);
+  CHECK(a.Svg == b.Svg);
+  CHECK(a.Hq == b.Hq);
+  CHECK(a.y == b.y);
+  CHECK(a.r == b.r);
+  CHECK(a.gq == b.gq);
+  CHECK(a.bias == b.bias);
+  CHECK(a.lower == b.lower);
+  CHECK(a.upper == b.upper);
+  CHECK(a.x0 == b.x0);
+  CHECK(a.x_tilde == b.x_tilde);
+  CHECK(a.flags == b.flags);
+  CHECK(a.status == b.status);
+  CHECK(a.iterations == b.iterations);
+}
+}  // namespace
+
+TEST_CASE("a solver that throws leaves the estimator's intermediates as they were (tracker and bare)",
+          "[mitigation][qp][input]") {
+  const Square4 sq;
+  VecX z(4), z2(4);
+  for (int i = 0; i < 4; ++i) {
+    const double d = (sq.anchors.row(i).transpose() - sq.g0.mean.head<2>()).norm();
+    z[i] = d + (i == 2 ? 5 : 0);
+    z2[i] = d + (i == 1 ? 7 : 0.5);  // another problem: every intermediate would change
+  }
+  for (auto ref : {BiasReference::kPrediction, BiasReference::kSnapshot}) {
+    CAPTURE(static_cast<int>(ref));
+    QpBiasEkfOptions o = sq.o;
+    o.reference = ref;
+    auto armed = std::make_shared<bool>(false);
+    QpBiasEkf f(sq.mo, sq.anchors, sq.g0, o, std::make_unique<ThrowingQp>(4, armed));
+    f.update(z);
+    REQUIRE(f.last_step().bias_estimated);
+    REQUIRE(f.bias_estimator().last().qp.ok());
+    const EstimatorView before(f.bias_estimator());
+    const MitigationStep last = f.last_step();
+    *armed = true;
+    CHECK_THROWS_WITH(f.step(z2), "boom");
+    CHECK_THROWS_WITH(f.update(z2), "boom");
+    check_same(EstimatorView(f.bias_estimator()), before);
+    CHECK(f.last_step().innovation_sq == last.innovation_sq);
+    CHECK(f.last_step().threshold == last.threshold);
+    // the same step, not refused, does change them
+    *armed = false;
+    f.update(z2);
+    CHECK(f.bias_estimator().qp_hessian() != before.Hq);
+    CHECK(f.bias_estimator().r() != before.r);
+  }
+  // A bare estimator, both forms: H0, U and y (snapshot) and the rest restored.
+  auto armed = std::make_shared<bool>(false);
+  BiasEstimator est(sq.anchors, std::make_unique<ThrowingQp>(4, armed));
+  const VecX var = Vec<4>(1.0, 2.0, 1.5, 1.0);
+  est.estimate(z, var);
+  REQUIRE(est.last().qp.ok());
+  const EstimatorView snap(est);
+  *armed = true;
+  CHECK_THROWS_WITH(est.estimate(z2, var), "boom");
+  check_same(EstimatorView(est), snap);
+  CHECK_THROWS_WITH(est.estimate_from_innovation(z2, VecX::Ones(4), MatX::Identity(4, 4)), "boom");
+  check_same(EstimatorView(est), snap);
+  *armed = false;
+  est.estimate_from_innovation(z, Vec<4>(1.0, -1.0, 2.0, 0.0), MatX::Identity(4, 4));
+  const EstimatorView pred(est);
+  *armed = true;
+  CHECK_THROWS_WITH(est.estimate(z2, var), "boom");
+  check_same(EstimatorView(est), pred);
+}

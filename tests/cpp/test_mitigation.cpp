@@ -161,7 +161,7 @@ TEST_CASE("eq. (14) referenced to the prediction (r = innovation, Sigma_v = eq. 
   CHECK_THAT(e2.bias[0], WithinAbs(30.0, 1e-6));
   CHECK_THAT(e2.bias[1], WithinAbs(0.0, 1e-6));
   CHECK_THAT(e2.bias[2], WithinAbs(0.5, 1e-6));
-  // Shapes named; a D that is not positive definite is a flagged fallback (b^ = 0), not an exception.
+  // Shapes named (D's other checks: the next test case).
   CHECK_THROWS_WITH(est.estimate_from_innovation(z, VecX::Zero(3), MatX::Identity(2, 2)),
                     Catch::Matchers::Contains("D"));
   CHECK_THROWS_WITH(est.estimate_from_innovation(z, VecX::Zero(2), MatX::Identity(3, 3)),
@@ -181,9 +181,125 @@ TEST_CASE("eq. (14) referenced to the prediction (r = innovation, Sigma_v = eq. 
   const VecX znan = Vec<3>(20.0, std::nan(""), 20.0);
   CHECK((est.estimate_from_innovation(znan, Vec<3>(1, 1, 1), MatX::Identity(3, 3)).flags &
          kFlagMissingRows) != 0);
-  const BiasEstimate& e3 = est.estimate_from_innovation(z, Vec<3>(1, 1, 1), -MatX::Identity(3, 3));
-  CHECK((e3.flags & kFlagDegenerateGeometry) != 0);
-  CHECK(e3.bias.isZero());
+}
+
+TEST_CASE("eq. (27)'s D must be a covariance: finite, symmetric, positive definite, else named",
+          "[mitigation][bias][input]") {
+  BiasEstimator est(small_anchors());
+  const VecX z = VecX::Constant(3, 20.0);
+  MatX D(3, 3);
+  D << 2, 1, 0, 1, 2, 0, 0, 0, 1;
+  REQUIRE(est.estimate_from_innovation(z, Vec<3>(1.0, -1.0, 0.0), D).qp.ok());
+  const VecX bias = est.last().bias;
+  const MatX Sv = est.sigma_v(), Svg = est.sigma_v_ginv(), Hq = est.qp_hessian();
+  const VecX r = est.r(), gq = est.qp_gradient();
+  const Vec<3> innov(5.0, 3.0, 1.0);
+  // Was silently symmetrised.
+  MatX asym = D;
+  asym(0, 1) = 1.5;
+  asym(1, 0) = -1.5;
+  CHECK_THROWS_WITH(est.estimate_from_innovation(z, innov, asym),
+                    "D: expected a symmetric matrix, got D[0,1] = 1.5 != D[1,0] = -1.5");
+  // Were reported as DEGENERATE_GEOMETRY (flags 8); the header promised an exception on inf.
+  MatX inf = D;
+  inf(2, 2) = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(est.estimate_from_innovation(z, innov, inf), "D: expected finite values (no NaN or inf)");
+  inf(2, 2) = std::nan("");
+  CHECK_THROWS_WITH(est.estimate_from_innovation(z, innov, inf), "D: expected finite values (no NaN or inf)");
+  CHECK_THROWS_WITH(est.estimate_from_innovation(z, innov, -MatX::Identity(3, 3)),
+                    "D: expected a positive definite matrix (eq. 27: F P F^T + R), got the pivot -1 at row 0 "
+                    "of its Cholesky factorisation");
+  // Indefinite: the second pivot of [[1, 2], [2, 1]] is 1 - 2^2 = -3; singular PSD: a zero pivot.
+  MatX indef = MatX::Identity(3, 3);
+  indef(0, 1) = indef(1, 0) = 2.0;
+  CHECK_THROWS_WITH(est.estimate_from_innovation(z, innov, indef),
+                    "D: expected a positive definite matrix (eq. 27: F P F^T + R), got the pivot -3 at row 1 "
+                    "of its Cholesky factorisation");
+  CHECK_THROWS_WITH(
+      est.estimate_from_innovation(z, innov, Vec<3>(1.0, 0.0, 1.0).asDiagonal().toDenseMatrix()),
+      "D: expected a positive definite matrix (eq. 27: F P F^T + R), got the pivot 0 at row 1 "
+      "of its Cholesky factorisation");
+  // D is checked even when a missing range means no estimate.
+  CHECK_THROWS_WITH(est.estimate_from_innovation(Vec<3>(20.0, std::nan(""), 20.0), innov, asym),
+                    Catch::Matchers::StartsWith("D: expected a symmetric matrix"));
+  // Unchanged by the refused calls.
+  CHECK(est.last().bias == bias);
+  CHECK(est.last().flags == kFlagNone);
+  CHECK(est.sigma_v() == Sv);
+  CHECK(est.sigma_v_ginv() == Svg);
+  CHECK(est.qp_hessian() == Hq);
+  CHECK(est.qp_gradient() == gq);
+  CHECK(est.r() == r);
+  // Round-off asymmetry (1e-12 of max |D|, as F P F^T + R computed in floating point) passes.
+  MatX near = D;
+  near(0, 1) += 2e-12;
+  const BiasEstimate& e = est.estimate_from_innovation(z, Vec<3>(1.0, -1.0, 0.0), near);
+  REQUIRE(e.qp.ok());
+  CHECK_THAT(e.bias[0], WithinAbs(1.5, 1e-6));
+}
+
+TEST_CASE("reference point: anchors M x 2 (M >= 2) finite, ranges finite and >= 0, else named",
+          "[mitigation][reference][input]") {
+  const MatX A = small_anchors();
+  CHECK_THROWS_WITH(reference_point(A, Vec<3>(5.0, -1.0, 6.0)),
+                    "z: expected finite ranges >= 0 (m), got -1 at row 1");
+  CHECK_THROWS_WITH(reference_point(A, Vec<3>(5.0, 6.0, std::numeric_limits<double>::infinity())),
+                    "z: expected finite ranges >= 0 (m), got inf at row 2");
+  CHECK_THROWS_WITH(reference_point(A, Vec<3>(std::nan(""), 6.0, 7.0)),
+                    "z: expected finite ranges >= 0 (m), got nan at row 0");
+  CHECK_THROWS_WITH(reference_point(A, Vec<2>(5.0, 6.0)), "z: expected shape (3, 1), got (2, 1)");
+  CHECK_THROWS_WITH(reference_point(A.topRows(1), Vec<1>(5.0)),
+                    "anchors: expected at least 2 anchors (rows), got 1");
+  MatX bad = A;
+  bad(1, 0) = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(reference_point(bad, exact_ranges()), "anchors: expected finite values (no NaN or inf)");
+  CHECK_THROWS_WITH(reference_point(MatX::Zero(3, 3), exact_ranges()),
+                    "anchors: expected shape (-1, 2), got (3, 3)");
+  // Two anchors and zero ranges are valid: circles of radius 6 around (0, 0) and (10, 0) meet at (5,
+  // +-sqrt(11)), whose mean is (5, 0); a zero range is a point disc.
+  const ReferencePoint two = reference_point(A.topRows(2), Vec<2>(6.0, 6.0));
+  CHECK(two.kind == ReferenceKind::kFeasibleVertices);
+  CHECK(two.vertices == 2);
+  CHECK_THAT(two.point[0], WithinAbs(5.0, 1e-12));
+  CHECK_THAT(two.point[1], WithinAbs(0.0, 1e-12));
+  const ReferencePoint zero = reference_point(A.topRows(2), Vec<2>(0.0, 10.0));
+  CHECK(zero.kind == ReferenceKind::kFeasibleVertices);  // tangent at anchor 0
+  CHECK(zero.point.norm() < 1e-12);
+  // BiasEstimator::estimate takes a negative range (noise near an anchor), as before: no exception.
+  BiasEstimator est(A);
+  VecX zneg = exact_ranges();
+  zneg[0] = -0.5;
+  CHECK_NOTHROW(est.estimate(zneg, VecX::Ones(3)));
+  CHECK(est.last().bias.allFinite());
+}
+
+TEST_CASE("QpBiasEkfOptions::validate refuses what the constructor refuses, with the same message",
+          "[mitigation][input]") {
+  const auto refused_alike = [](const QpBiasEkfOptions& o, const std::string& msg) {
+    CHECK_THROWS_WITH(o.validate(), msg);
+    CHECK_THROWS_WITH(QpBiasEkf(motion(), small_anchors(), belief_at(3, 4), o), msg);
+  };
+  QpBiasEkfOptions o;
+  o.sparsity = -1.0;  // validate() passed it, the constructor said "sparsity: ..."
+  refused_alike(o, "options.sparsity: expected a finite value >= 0, got -1.000000");
+  o.sparsity = std::numeric_limits<double>::infinity();
+  refused_alike(o, "options.sparsity: expected a finite value >= 0, got inf");
+  o.sparsity = 0.5;
+  o.reference = static_cast<BiasReference>(7);
+  refused_alike(o, "options.reference: expected BiasReference::kPrediction (0) or kSnapshot (1), got 7");
+  o.reference = BiasReference::kSnapshot;
+  o.soft_threshold = -2.0;
+  refused_alike(o, "options.soft_threshold: expected a finite value >= 0, got -2.000000");
+  o.soft_threshold = 0.0;
+  o.gamma = 0.9;
+  refused_alike(o, "options.gamma: expected a finite value >= 1 (eq. 32), got 0.900000");
+  o.gamma = 1.1;
+  o.noise.min_std = 0.0;
+  refused_alike(o, "options.noise.min_std: expected a finite value > 0, got 0.000000");
+  o.noise.min_std = 1e-3;
+  o.validate();
+  const QpBiasEkf f(motion(), small_anchors(), belief_at(3, 4), o);
+  CHECK(f.bias_estimator().sparsity() == 0.5);
 }
 
 TEST_CASE("soft threshold on eq. (14): b = clip(r - lambda sqrt(D_ii), 0, b^U) for diagonal D",

@@ -3,6 +3,8 @@ arguments reject fractions, state layouts and row indices are checked, infinite 
 errors (NaN is missing) everywhere, getters return copies, and the C++ accessors have Python
 twins."""
 
+import pickle
+
 import numpy as np
 import pytest
 
@@ -481,3 +483,96 @@ def test_mle_los_says_an_underdetermined_epoch_has_no_fix():
     np.testing.assert_array_equal(r["theta"], theta)  # the previous fix
     y2[2] = y[2]  # three rows: determined
     assert mle.solve(y2)["valid"]
+
+
+ONE_D = r"expected a 1-D float array, got "
+
+
+def test_vector_arguments_name_themselves():
+    # A (1, m) row sliced from a (T, m) array, a column (m, 1) and a complex vector: pybind11's
+    # Eigen caster refused the first with "incompatible function arguments" (a TypeError naming no
+    # argument) and dropped the imaginary part of the last with only a numpy warning.
+    Y, Q, _, _ = track(steps=1)
+    motion = models.ConstantVelocity2(0.1, 1.0, models.VelocityNoise.WhiteAcceleration)
+    cases = [
+        ("y", Y3, filters.Ekf(MOTION, stack(), X0, P0), lambda f, v: f.step(v)),
+        ("y", Y3, filters.Ukf(MOTION, stack(), X0, P0), lambda f, v: f.update(v)),
+        ("y", Y3, filters.UkfAugmented(MOTION, stack(), X0, P0), lambda f, v: f.step(v)),
+        (
+            "y",
+            Y3[:2],
+            filters.Kf(MOTION, np.eye(2, 4), np.eye(2), X0, P0),
+            lambda f, v: f.update(v),
+        ),
+        ("z", EXACT, mitigation.QpBiasEkf(motion, ANCHORS, X0, P0), lambda f, v: f.step(v)),
+        (
+            "z",
+            EXACT,
+            mitigation.BiasAugmentedEkf(motion, ANCHORS, X0, P0),
+            lambda f, v: f.update(v),
+        ),
+        ("o", Q[0], situation.ForwardFilter(SIGHT, QUALITY), lambda f, v: f.update(v)),
+    ]
+    for pf in particle_filters():
+        cases.append(("y", Y[0], pf, lambda f, v: f.step(v, Q[0])))
+        cases.append(("o", Q[0], pf, lambda f, v: f.check_inputs(Y[0], v)))
+    iukf = rbpf.Iukf(MOTION6, stack6(), SIGHT, QUALITY, X06, P06)
+    cases.append(("y", Y[0], iukf, lambda f, v: f.step_quality(v, Q[0])))
+    cases.append(
+        ("y", Y[0], iukf, lambda f, v: f.update_with_probabilities(v, np.full((6, 2), 0.5)))
+    )
+    for name, good, f, call in cases:
+        before = pickle.dumps(f)
+        for bad, shown in ((good[None, :], "2 dimensions"), (good[:, None], "2 dimensions")):
+            with pytest.raises(ValueError, match=rf"^{name}: {ONE_D}{shown}$"):
+                call(f, bad)
+        with pytest.raises(
+            ValueError, match=rf"^{name}: expected real values, got a complex array$"
+        ):
+            call(f, good + 0j)
+        with pytest.raises(ValueError, match=rf"^{name}: {ONE_D}None$"):
+            call(f, None)
+        assert pickle.dumps(f) == before, type(f).__name__
+        call(f, list(good))  # a sequence of numbers still works
+
+
+def test_index_arguments_beyond_int_are_named():
+    # pybind11's int caster refused 2**31 with "incompatible function arguments" (a TypeError).
+    f = rbpf.Rbpf(MOTION6, stack6(), SIGHT, QUALITY, X06, P06, rbpf.RbpfOptions(num_particles=8))
+    calls = (f.log_weight, f.particle_mean, f.particle_cov, f.particle_situation, stack().linear_h)
+    for i in (2**31, 2**64, -(2**31) - 1, np.uint64(2**63)):
+        for call in calls:
+            with pytest.raises(
+                IndexError, match=rf"^i: expected an index within the range of int, got {int(i)}$"
+            ):
+                call(i)
+    n = f.num_particles
+    for i in (n, -1, np.int64(-(2**31))):  # within int: the callee's own range check
+        with pytest.raises(ValueError, match=rf"^i: expected a particle index in \[0, {n}\)$"):
+            f.log_weight(i)
+    assert f.log_weight(np.int32(0)) == f.log_weight(0)
+    with pytest.raises(TypeError):
+        f.log_weight(0.0)
+
+
+def test_merge_keys_are_named_when_out_of_range():
+    means, logw = np.zeros((1, 3)), np.log(np.full(3, 1.0 / 3.0))
+    with pytest.raises(ValueError, match=rf"^keys\[1\]: {SEED_RANGE}-1$"):
+        rbpf.merge_greedy([0, -1, 0], means, logw, 1.0)
+    with pytest.raises(ValueError, match=rf"^keys\[2\]: {SEED_RANGE}{2**64}$"):
+        rbpf.merge_greedy([0, 0, 2**64], means, logw, 1.0)
+    new, n = rbpf.merge_greedy(np.array([5, 5, 5], dtype=np.uint64), means, logw, 1.0)
+    assert n == 2
+    assert new[0] == pytest.approx(0.0, abs=1e-15)
+
+
+def test_an_empty_estimator_list_is_refused():
+    from nlosloc import montecarlo
+
+    msg = r"^estimators: expected at least one estimator, got an empty list \(None: every estimator"
+    with pytest.raises(ValueError, match=msg):
+        sim.run_monte_carlo("K1", "2LOS/1NLOS", runs=1, seed=1, estimators=[])
+    with pytest.raises(ValueError, match=msg):
+        sim.run_monte_carlo(sim.K1(), "2LOS/1NLOS", runs=1, seed=1, estimators=())
+    with pytest.raises(ValueError, match=msg):
+        montecarlo.run("K1", "2LOS/1NLOS", 1, 1, [], progress=False)

@@ -4,6 +4,8 @@ QPs that the bias estimation actually builds."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -17,6 +19,11 @@ K1_ANCHORS = np.array([[0.0, 0.0], [8600.0, 0.0], [4300.0, 7500.0]])
 
 def motion(dt: float = 0.1, accel: float = 1.0) -> models.ConstantVelocity2:
     return models.ConstantVelocity2(dt, accel, models.VelocityNoise.WhiteAcceleration)
+
+
+def exact(msg: str) -> str:
+    """A pytest.raises match for exactly this message."""
+    return "^" + re.escape(msg) + "$"
 
 
 @pytest.mark.parametrize("solver", ["default", "enumeration", "proxsuite"])
@@ -154,6 +161,103 @@ def test_options_validate_names_the_field_the_tracker_refuses() -> None:
     b.iterations, b.bias_prior_std = 3, float("nan")
     with pytest.raises(ValueError, match=r"^options\.bias_prior_std: expected a finite value > 0"):
         b.validate()
+
+
+@pytest.mark.parametrize(
+    ("value", "shown"), [(-1.0, "-1.000000"), (float("inf"), "inf"), (float("nan"), "nan")]
+)
+def test_options_sparsity_is_validated_as_the_tracker_refuses_it(value: float, shown: str) -> None:
+    # validate() passed sparsity = -1, which the constructor refused as "sparsity: ..."
+    q = mitigation.QpBiasEkfOptions()
+    q.sparsity = value
+    msg = exact(f"options.sparsity: expected a finite value >= 0, got {shown}")
+    with pytest.raises(ValueError, match=msg):
+        q.validate()
+    for reference in [mitigation.BiasReference.Prediction, mitigation.BiasReference.Snapshot]:
+        q.reference = reference
+        with pytest.raises(ValueError, match=msg):
+            mitigation.QpBiasEkf(motion(), ANCHORS, np.zeros(4), np.eye(4), q)
+    q.sparsity = 0.25
+    q.validate()
+    f = mitigation.QpBiasEkf(motion(), ANCHORS, np.zeros(4), np.eye(4), q)
+    assert f.bias_estimator.sparsity == 0.25
+
+
+def test_reference_point_rejects_bad_anchors_and_ranges() -> None:
+    msg = "z: expected finite ranges >= 0 (m), got {} at row {}"
+    for z, shown, row in [
+        ([5.0, -1.0, 6.0], "-1", 1),
+        ([5.0, 6.0, np.inf], "inf", 2),
+        ([np.nan, 6.0, 7.0], "nan", 0),
+        ([5.0, 6.0, -np.inf], "-inf", 2),
+    ]:
+        with pytest.raises(ValueError, match=exact(msg.format(shown, row))):
+            mitigation.reference_point(ANCHORS, np.array(z))
+    with pytest.raises(ValueError, match=exact("z: expected shape (3, 1), got (2, 1)")):
+        mitigation.reference_point(ANCHORS, np.array([5.0, 6.0]))
+    with pytest.raises(
+        ValueError, match=exact("anchors: expected at least 2 anchors (rows), got 1")
+    ):
+        mitigation.reference_point(ANCHORS[:1], np.array([5.0]))
+    bad = ANCHORS.copy()
+    bad[1, 0] = np.nan
+    with pytest.raises(ValueError, match=exact("anchors: expected finite values (no NaN or inf)")):
+        mitigation.reference_point(bad, EXACT)
+    # two anchors and a zero range are valid: circles of radius 6 around (0, 0) and (10, 0) meet at
+    # (5, +-sqrt(11)); a zero range is a point disc, tangent to the other circle here
+    two = mitigation.reference_point(ANCHORS[:2], np.array([6.0, 6.0]))
+    assert two.kind == mitigation.ReferenceKind.FeasibleVertices and two.vertices == 2
+    np.testing.assert_allclose(two.point, [5.0, 0.0], atol=1e-12)
+    zero = mitigation.reference_point(ANCHORS[:2], np.array([0.0, 10.0]))
+    np.testing.assert_allclose(zero.point, [0.0, 0.0], atol=1e-12)
+    # BiasEstimator.estimate still takes a negative range (noise near an anchor)
+    e = mitigation.BiasEstimator(ANCHORS).estimate(EXACT - np.array([5.5, 0, 0]), np.ones(3))
+    assert np.all(np.isfinite(e.bias))
+
+
+def estimator_views(est):
+    """What an estimate may change: the last estimate and the exposed intermediates."""
+    last, v = est.last, est
+    views = [last.bias, last.upper, last.flags, v.sigma_v, v.sigma_v_ginv, v.qp_hessian]
+    return views + [v.qp_gradient, v.r, v.L]
+
+
+def test_d_of_eq_27_must_be_a_covariance_and_a_refusal_changes_nothing() -> None:
+    est = mitigation.BiasEstimator(ANCHORS)
+    z = np.full(3, 20.0)
+    d = np.array([[2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 1.0]])
+    assert est.estimate_from_innovation(z, np.array([1.0, -1.0, 0.0]), d).qp.ok()
+    views = estimator_views(est)
+    innov = np.array([5.0, 3.0, 1.0])
+    pd = "D: expected a positive definite matrix (eq. 27: F P F^T + R), got the pivot {} at row {} "
+    pd += "of its Cholesky factorisation"
+    asym = d.copy()
+    asym[0, 1], asym[1, 0] = 1.5, -1.5
+    with pytest.raises(
+        ValueError, match=exact("D: expected a symmetric matrix, got D[0,1] = 1.5 != D[1,0] = -1.5")
+    ):
+        est.estimate_from_innovation(z, innov, asym)  # was silently symmetrised
+    for bad in [np.inf, -np.inf, np.nan]:
+        dd = d.copy()
+        dd[2, 2] = bad
+        with pytest.raises(ValueError, match=exact("D: expected finite values (no NaN or inf)")):
+            est.estimate_from_innovation(z, innov, dd)  # inf was DEGENERATE_GEOMETRY (flags 8)
+    indef = np.eye(3)
+    indef[0, 1] = indef[1, 0] = 2.0
+    for dd, pivot, row in [(-np.eye(3), "-1", 0), (indef, "-3", 1), (np.diag([1.0, 0, 1]), "0", 1)]:
+        with pytest.raises(ValueError, match=exact(pd.format(pivot, row))):
+            est.estimate_from_innovation(z, innov, dd)
+    with pytest.raises(ValueError, match=r"^D: expected a symmetric matrix"):
+        est.estimate_from_innovation(np.array([20.0, np.nan, 20.0]), innov, asym)  # even then
+    after = estimator_views(est)
+    for a, b in zip(views, after, strict=True):
+        np.testing.assert_array_equal(a, b)
+    # round-off asymmetry (1e-12 of max |D|, as F P F^T + R in floating point) passes
+    near = d.copy()
+    near[0, 1] += 2e-12
+    e = est.estimate_from_innovation(z, np.array([1.0, -1.0, 0.0]), near)
+    assert e.qp.ok() and e.flags == 0
+    np.testing.assert_allclose(e.bias, [1.5, 0.0, 0.0], atol=1e-6)
 
 
 def test_soft_threshold_hand_computed() -> None:

@@ -126,18 +126,12 @@ Vec<2> range_least_squares(const Eigen::MatrixBase<DA>& anchors, const Eigen::Ma
   }
   return x;
 }
-}  // namespace detail
 
-/// Reference point X0 of Ke & Wu Sec. 3: "the centre of the feasible region" of the discs |X - a_i| <= z_i.
-/// Rule implemented: the vertices of the region are the pairwise circle intersection points lying in every
-/// other disc (tolerance 1e-9 (1 + z_k)); X0 is their mean (with three nodes the paper's average of the
-/// three intersection points). Documented fallback when there is no such vertex (the discs have no common
-/// point because ranges are inconsistent, or one disc lies inside all others): X0 = *hint when given (the
-/// trackers pass their predicted position), else the least-squares range fit from the anchors' centroid.
-/// anchors M x 2 (M >= 2), z M finite. No heap allocation.
+/// reference_point() without its argument checks: what BiasEstimator::estimate() calls on ranges it has
+/// checked itself (finite; a negative range, possible with noise near an anchor, is not an error there).
 template <class DA, class DZ>
-ReferencePoint reference_point(const Eigen::MatrixBase<DA>& anchors, const Eigen::MatrixBase<DZ>& z,
-                               const Vec<2>* hint = nullptr) {
+ReferencePoint reference_point_unchecked(const Eigen::MatrixBase<DA>& anchors, const Eigen::MatrixBase<DZ>& z,
+                                         const Vec<2>* hint) {
   const Eigen::Index M = anchors.rows();
   ReferencePoint rp;
   Vec<2> sum = Vec<2>::Zero();
@@ -180,10 +174,37 @@ ReferencePoint reference_point(const Eigen::MatrixBase<DA>& anchors, const Eigen
     return rp;
   }
   const Vec<2> centroid = anchors.colwise().mean().transpose();
-  rp.point = detail::range_least_squares(anchors, z, centroid);
+  rp.point = range_least_squares(anchors, z, centroid);
   rp.kind = ReferenceKind::kLeastSquares;
   return rp;
 }
+}  // namespace detail
+
+/// Reference point X0 of Ke & Wu Sec. 3: "the centre of the feasible region" of the discs |X - a_i| <= z_i.
+/// Rule implemented: the vertices of the region are the pairwise circle intersection points lying in every
+/// other disc (tolerance 1e-9 (1 + z_k)); X0 is their mean (with three nodes the paper's average of the
+/// three intersection points). Documented fallback when there is no such vertex (the discs have no common
+/// point because ranges are inconsistent, or one disc lies inside all others): X0 = *hint when given (the
+/// trackers pass their predicted position), else the least-squares range fit from the anchors' centroid.
+/// anchors M x 2 (M >= 2, finite), z M finite ranges >= 0 (m), else std::invalid_argument naming the
+/// argument (a NaN or negative range has no disc). No heap allocation.
+template <class DA, class DZ>
+ReferencePoint reference_point(const Eigen::MatrixBase<DA>& anchors, const Eigen::MatrixBase<DZ>& z,
+                               const Vec<2>* hint = nullptr) {
+  nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
+  const Eigen::Index M = anchors.rows();
+  NLOSLOC_ENSURE(M >= 2, "anchors: expected at least 2 anchors (rows), got " + std::to_string(M));
+  nlosloc::detail::ensure_finite(anchors, "anchors");
+  nlosloc::detail::ensure_shape(z, M, 1, "z");
+  for (Eigen::Index i = 0; i < M; ++i)
+    if (!(z[i] >= 0.0) || !std::isfinite(z[i]))  // Sec. 3: z_i is the radius of disc i
+      nlosloc::detail::throw_invalid_argument("z: expected finite ranges >= 0 (m), got " +
+                                              nlosloc::detail::fmt_shortest(z[i]) + " at row " +
+                                              std::to_string(i));
+  return detail::reference_point_unchecked(anchors, z, hint);
+}
+
+class QpBiasEkf;
 
 /// Result of one bias estimation (Ke & Wu Sec. 3); sizes M, owned by the BiasEstimator.
 struct BiasEstimate {
@@ -234,7 +255,7 @@ class BiasEstimator {
     est_.bias.setZero(M_);
     est_.lower.setZero(M_);
     est_.upper.setZero(M_);
-    back_ = est_;
+    save();  // sizes the backup once: later saves copy without allocating
   }
 
   BiasEstimator(const BiasEstimator&) = default;
@@ -253,7 +274,8 @@ class BiasEstimator {
 
   /// Estimates the NLOS biases of ranges z (M, NaN = missing) with noise variances `variances` (M, > 0:
   /// the diagonal of R). `hint` (optional): position used when the discs have no common vertex (see
-  /// reference_point). Never throws on inconsistent data: fallbacks are flagged in the result.
+  /// reference_point). Never throws on inconsistent data: fallbacks are flagged in the result. A solver
+  /// that throws leaves the estimator as it was (last estimate and intermediates).
   const BiasEstimate& estimate(const Eigen::Ref<const VecX>& z, const Eigen::Ref<const VecX>& variances,
                                const Vec<2>* hint = nullptr) {
     nlosloc::detail::check_measurement(z, M_, "z");  // before est_ changes
@@ -262,7 +284,7 @@ class BiasEstimator {
       NLOSLOC_ENSURE(variances[i] > 0.0 && std::isfinite(variances[i]),
                      "variances: expected finite values > 0, got " + std::to_string(variances[i]) +
                          " at row " + std::to_string(i));
-    back_ = est_;  // same sizes: no allocation
+    save();  // same sizes: no allocation
     BiasEstimate& e = est_;
     e.flags = 0;
     e.bias.setZero();
@@ -275,7 +297,7 @@ class BiasEstimator {
     }
 
     // Sec. 3: reference point X0, centre of the feasible region (documented fallback in reference_point).
-    e.reference = reference_point(anchors_, z, hint);
+    e.reference = detail::reference_point_unchecked(anchors_, z, hint);
     if (e.reference.kind != ReferenceKind::kFeasibleVertices) e.flags |= kFlagReferenceFallback;
     const Vec<2> x0 = e.reference.point;
 
@@ -339,53 +361,28 @@ class BiasEstimator {
   }
 
   /// Eqs. (12)-(15) referenced to the tracker's prediction (file comment, second form): r = innovation
-  /// (M, eq. 26: z - f(X(k|k-1))), Sigma_v = D (M x M, eq. 27: F P(k|k-1) F^T + R, positive definite),
-  /// bounds 0 <= b <= eq. (15) from the ranges z (M). Never throws on inconsistent data (flags as in
-  /// estimate(); a NaN in z or the innovation is a missing row: kFlagMissingRows, no estimate); throws
-  /// std::invalid_argument on wrong shapes or an infinite entry, as estimate() does. No heap allocation
-  /// (beyond the solver).
+  /// (M, eq. 26: z - f(X(k|k-1))), Sigma_v = D (M x M, eq. 27: F P(k|k-1) F^T + R), bounds 0 <= b <= eq. (15)
+  /// from the ranges z (M). Never throws on inconsistent data (flags as in estimate(); a NaN in z or the
+  /// innovation is a missing row: kFlagMissingRows, no estimate). Throws std::invalid_argument naming the
+  /// argument on wrong shapes or an infinite entry of z or the innovation, and unless D is finite, symmetric
+  /// (to 1e-10 of its largest |entry|) and positive definite (a covariance, eq. 27); the estimator is then
+  /// unchanged, as it is when the solver throws. No heap allocation (beyond the solver).
   const BiasEstimate& estimate_from_innovation(const Eigen::Ref<const VecX>& z,
                                                const Eigen::Ref<const VecX>& innovation,
                                                const Eigen::Ref<const MatX>& D) {
     nlosloc::detail::check_measurement(z, M_, "z");
     nlosloc::detail::check_measurement(innovation, M_, "innovation");
     nlosloc::detail::ensure_shape(D, M_, M_, "D");
-    back_ = est_;  // same sizes: no allocation
-    BiasEstimate& e = est_;
-    e.flags = 0;
-    e.bias.setZero();
-    e.qp = QpResult{};
-    if (!z.allFinite() || !innovation.allFinite()) {
-      e.flags |= kFlagMissingRows;
-      e.lower.setZero();
-      e.upper.setZero();
-      return e;
-    }
-    upper_bounds(z, e);  // eq. (15), lower 0 (eq. 14)
-    // Sigma_v^-1 = D^-1 through the Cholesky factor of D (eq. 27 covariance, positive definite).
-    Sv_ = D;  // Sigma_v of eq. (13) in this form (eq. 27)
-    nlosloc::detail::symmetrize(Sv_);
-    r_ = innovation;  // eq. (12) with X~ := X(k|k-1): r = alpha(k)
-    L_.setIdentity();
-    T_ = Sv_;
-    const double s = std::sqrt(std::max(T_.diagonal().mean(), 1e-300));  // unit-scale variables u = b / s
-    if (!T_.allFinite() || !nlosloc::detail::small_cholesky_inplace(T_)) {
-      e.flags |= kFlagDegenerateGeometry;
-      return e;
-    }
-    Hq_.setIdentity();
-    nlosloc::detail::small_forward_inplace(T_, Hq_);  // Lc^-1 (lower triangular), D = Lc Lc^T
-    Svg_.noalias() = Hq_.transpose() * Hq_;           // Sigma_v^-1 = D^-1 = Lc^-T Lc^-1
-    // Eq. (14) with L = I: (r - b)^T D^-1 (r - b) = s^2 u^T D^-1 u - 2 s (D^-1 r)^T u + const.
-    Hq_ = (2.0 * s * s) * Svg_;
-    nlosloc::detail::symmetrize(Hq_);
-    gq_.noalias() = Svg_ * innovation;
-    gq_ *= -2.0 * s;
-    // Soft threshold (set_soft_threshold; not in Ke & Wu): + 2 lambda sum_i b_i / sqrt(D_ii), i.e. eq. (14)
-    // plus an L1 term that, for diagonal D, gives b_i = clip(r_i - lambda sqrt(D_ii), 0, b_i^U).
-    if (soft_threshold_ > 0.0)
-      for (int i = 0; i < M_; ++i) gq_[i] += 2.0 * soft_threshold_ * s / std::sqrt(Sv_(i, i));
-    return solve_scaled(s, e);
+    nlosloc::detail::ensure_finite(D, "D");
+    detail::ensure_symmetric(D, "D");
+    double pivot = 0.0;
+    const int row = factor_covariance(D, pivot);  // into T_, scratch: the estimator is still unchanged
+    if (row >= 0)
+      nlosloc::detail::throw_invalid_argument(
+          "D: expected a positive definite matrix (eq. 27: F P F^T + R), got the pivot " +
+          nlosloc::detail::fmt_shortest(pivot) + " at row " + std::to_string(row) +
+          " of its Cholesky factorisation");
+    return from_innovation_factored(z, innovation, D, true);
   }
 
   /// lambda of the soft threshold of estimate_from_innovation (0 = eq. 14 as written): an L1 term
@@ -420,6 +417,118 @@ class BiasEstimator {
   const VecX& qp_gradient() const { return gq_; }    ///< QP linear term in the scaled variables
 
  private:
+  friend class QpBiasEkf;  // estimate_from_prediction: its own D, unchecked
+
+  /// QpBiasEkf's estimate_from_innovation: D = F P F^T + R built by the tracker (finite, symmetric to
+  /// round-off), not checked; a D that is not positive definite to working precision is a flagged fallback
+  /// (kFlagDegenerateGeometry, b^ = 0), not an exception, as a tracker step never throws on its own data.
+  const BiasEstimate& estimate_from_prediction(const Eigen::Ref<const VecX>& z,
+                                               const Eigen::Ref<const VecX>& innovation,
+                                               const Eigen::Ref<const MatX>& D) {
+    double pivot = 0.0;
+    const bool pd = factor_covariance(D, pivot) < 0;
+    return from_innovation_factored(z, innovation, D, pd);
+  }
+
+  /// Cholesky factor Lc of the symmetric part of D (D = Lc Lc^T) into T_'s lower triangle: -1, or the row
+  /// whose pivot (returned in `pivot`) is not positive (D not positive definite). No allocation.
+  int factor_covariance(const Eigen::Ref<const MatX>& D, double& pivot) {
+    T_ = D;  // same size: no allocation
+    nlosloc::detail::symmetrize(T_);
+    for (int j = 0; j < M_; ++j) {
+      double d = T_(j, j);
+      for (int k = 0; k < j; ++k) d -= T_(j, k) * T_(j, k);
+      if (!(d > 0.0)) {
+        pivot = d;
+        return j;
+      }
+      d = std::sqrt(d);
+      T_(j, j) = d;
+      for (int i = j + 1; i < M_; ++i) {
+        double v = T_(i, j);
+        for (int k = 0; k < j; ++k) v -= T_(i, k) * T_(j, k);
+        T_(i, j) = v / d;
+      }
+    }
+    return -1;
+  }
+
+  /// The second form with the factor of D in T_ (factor_covariance; pd false: it failed).
+  const BiasEstimate& from_innovation_factored(const Eigen::Ref<const VecX>& z,
+                                               const Eigen::Ref<const VecX>& innovation,
+                                               const Eigen::Ref<const MatX>& D, bool pd) {
+    save();  // same sizes: no allocation
+    BiasEstimate& e = est_;
+    e.flags = 0;
+    e.bias.setZero();
+    e.qp = QpResult{};
+    if (!z.allFinite() || !innovation.allFinite()) {
+      e.flags |= kFlagMissingRows;
+      e.lower.setZero();
+      e.upper.setZero();
+      return e;
+    }
+    upper_bounds(z, e);  // eq. (15), lower 0 (eq. 14)
+    Sv_ = D;             // Sigma_v of eq. (13) in this form (eq. 27)
+    nlosloc::detail::symmetrize(Sv_);
+    r_ = innovation;  // eq. (12) with X~ := X(k|k-1): r = alpha(k)
+    L_.setIdentity();
+    const double s = std::sqrt(std::max(Sv_.diagonal().mean(), 1e-300));  // unit-scale variables u = b / s
+    if (!pd) {
+      e.flags |= kFlagDegenerateGeometry;
+      return e;
+    }
+    // Sigma_v^-1 = D^-1 through the Cholesky factor Lc of D in T_ (eq. 27 covariance, positive definite).
+    Hq_.setIdentity();
+    nlosloc::detail::small_forward_inplace(T_, Hq_);  // Lc^-1 (lower triangular), D = Lc Lc^T
+    Svg_.noalias() = Hq_.transpose() * Hq_;           // Sigma_v^-1 = D^-1 = Lc^-T Lc^-1
+    // Eq. (14) with L = I: (r - b)^T D^-1 (r - b) = s^2 u^T D^-1 u - 2 s (D^-1 r)^T u + const.
+    Hq_ = (2.0 * s * s) * Svg_;
+    nlosloc::detail::symmetrize(Hq_);
+    gq_.noalias() = Svg_ * innovation;
+    gq_ *= -2.0 * s;
+    // Soft threshold (set_soft_threshold; not in Ke & Wu): + 2 lambda sum_i b_i / sqrt(D_ii), i.e. eq. (14)
+    // plus an L1 term that, for diagonal D, gives b_i = clip(r_i - lambda sqrt(D_ii), 0, b_i^U).
+    if (soft_threshold_ > 0.0)
+      for (int i = 0; i < M_; ++i) gq_[i] += 2.0 * soft_threshold_ * s / std::sqrt(Sv_(i, i));
+    return solve_scaled(s, e);
+  }
+
+  /// What a call may change (the last estimate and the exposed intermediates), saved at its start and
+  /// restored when the solver throws: a rejected call leaves the estimator as it was. Same sizes every
+  /// time, so saving copies without allocating.
+  struct Saved {
+    MatX H0, U, L, Sv, Svg, Hq;
+    VecX y, r, gq;
+    BiasEstimate est;
+  };
+  void save() {
+    saved_.H0 = H0_;
+    saved_.U = U_;
+    saved_.L = L_;
+    saved_.Sv = Sv_;
+    saved_.Svg = Svg_;
+    saved_.Hq = Hq_;
+    saved_.y = y_;
+    saved_.r = r_;
+    saved_.gq = gq_;
+    saved_.est = est_;
+  }
+  // Copies back (same sizes: no allocation) rather than swapping buffers, so arrays that Python holds on
+  // the intermediates (views of these members) show the restored values.
+  void restore() {
+    H0_ = saved_.H0;
+    U_ = saved_.U;
+    L_ = saved_.L;
+    Sv_ = saved_.Sv;
+    Svg_ = saved_.Svg;
+    Hq_ = saved_.Hq;
+    y_ = saved_.y;
+    r_ = saved_.r;
+    gq_ = saved_.gq;
+    est_ = saved_.est;
+  }
+
   /// Solves the QP in u = b / s (Hq_, gq_ set by the caller) within the eq. (15) box of e and writes
   /// b = s u, clamped to the box, into e; on solver failure b = 0 and kFlagQpFailed.
   BiasEstimate& solve_scaled(double s, BiasEstimate& e) {
@@ -428,7 +537,7 @@ class BiasEstimator {
     try {
       e.qp = solver_->solve(Hq_, gq_, lq_, uq_);
     } catch (...) {
-      est_ = back_;  // a solver that throws (one written in Python, say) leaves the last estimate as it was
+      restore();  // a solver that throws (one written in Python, say) leaves the estimator as it was
       throw;
     }
     if (!e.qp.ok() || !solver_->x().allFinite()) {
@@ -466,7 +575,7 @@ class BiasEstimator {
   MatX H0_, U_, L_, Sv_, Svg_, T_, Hq_;
   VecX gq_, y_, r_, rinv_, lq_, uq_, tmp_;
   BiasEstimate est_;
-  BiasEstimate back_;  ///< est_ before the current estimate, restored when the solver throws
+  Saved saved_;  ///< the state before the current call, restored when the solver throws
 };
 
 }  // namespace nlosloc::mitigation

@@ -3,7 +3,9 @@
 /// EnumerationBoxQp: an exact solver for the small box QPs of Ke & Wu eq. (14) (one variable per anchor),
 ///     minimise 1/2 x^T H x + g^T x   subject to   lower <= x <= upper,   H symmetric PSD,
 /// that allocates nothing after construction (proxsuite's dense QP allocates inside every solve, which
-/// broke the library's no-allocation rule for QpBiasEkf's step).
+/// broke the library's no-allocation rule for QpBiasEkf's step). H is checked (detail::check_box_qp, on
+/// fixed-capacity scratch): a non-symmetric or indefinite H throws std::invalid_argument naming H, since
+/// the KKT search below is exact only for a convex problem.
 ///
 /// Method: the problem is convex, so x is a global minimiser iff it satisfies the KKT conditions: with
 /// grad = H x + g, each variable is free (lower < x_i < upper, grad_i = 0), at its lower bound
@@ -70,7 +72,7 @@ class EnumerationBoxQp final : public BoxQp {
 
   QpResult solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,
                  const Eigen::Ref<const VecX>& lower, const Eigen::Ref<const VecX>& upper) override {
-    detail::check_box_qp(n_, H, g, lower, upper);
+    detail::check_box_qp(n_, H, g, lower, upper, work_, perm_);  // fixed-capacity scratch: no allocation
     QpResult res;
     res.objective = std::nan("");
     // Scale of the KKT tolerances: the gradient's and the box's magnitudes.
@@ -221,6 +223,8 @@ class EnumerationBoxQp final : public BoxQp {
   Eigen::Matrix<double, kMaxVariables, 1> xs_ = Eigen::Matrix<double, kMaxVariables, 1>::Zero();
   Small L_;
   SmallVec rhs_;
+  Small work_;                                                       ///< scratch of the H check
+  Eigen::Matrix<int, Eigen::Dynamic, 1, 0, kMaxVariables, 1> perm_;  ///< scratch of the H check
   std::array<int, kMaxVariables> free_{};
   Assignment last_{};  ///< the last solve's assignment, tried first
 };

@@ -33,6 +33,8 @@ class ProxsuiteBoxQp final : public BoxQp {
     detail::check_box_qp_settings(settings);
     x_.setZero(n);
     Hx_.setZero(n);
+    work_.setZero(n, n);
+    perm_.setZero(n);
     auto& s = qp_.settings;
     s.eps_abs = settings.eps_abs;
     s.eps_rel = 0.0;
@@ -60,7 +62,9 @@ class ProxsuiteBoxQp final : public BoxQp {
 
   QpResult solve(const Eigen::Ref<const MatX>& H, const Eigen::Ref<const VecX>& g,
                  const Eigen::Ref<const VecX>& lower, const Eigen::Ref<const VecX>& upper) override {
-    detail::check_box_qp(n_, H, g, lower, upper);
+    // H symmetric PSD checked on scratch sized here: proxsuite reads only one triangle of H and would
+    // report an indefinite problem as solved at a stationary point (not the minimum on the box).
+    detail::check_box_qp(n_, H, g, lower, upper, work_, perm_);
     QpResult res;
     res.objective = std::nan("");
 #ifdef EIGEN_RUNTIME_NO_MALLOC
@@ -116,6 +120,8 @@ class ProxsuiteBoxQp final : public BoxQp {
   BoxQpSettings settings_;
   proxsuite::proxqp::dense::QP<double> qp_;
   VecX x_, Hx_;
+  MatX work_;   ///< scratch of the H check (n x n)
+  VecXi perm_;  ///< scratch of the H check (n)
 };
 #endif
 

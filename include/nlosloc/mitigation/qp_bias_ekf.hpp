@@ -78,10 +78,17 @@ struct QpBiasEkfOptions {
   /// bad geometry.
   double soft_threshold = 0.0;
 
+  /// Throws std::invalid_argument naming the field (options.gamma, options.noise.*, options.sparsity,
+  /// options.reference, options.soft_threshold) for every value QpBiasEkf refuses: its constructor calls
+  /// it, so both give the same message.
   void validate() const {
     NLOSLOC_ENSURE(gamma >= 1.0 && std::isfinite(gamma),
                    "options.gamma: expected a finite value >= 1 (eq. 32), got " + std::to_string(gamma));
     noise.validate("options.noise");
+    nlosloc::detail::ensure_nonnegative(sparsity, "options.sparsity");  // BiasEstimator::set_sparsity's
+    NLOSLOC_ENSURE(reference == BiasReference::kPrediction || reference == BiasReference::kSnapshot,
+                   "options.reference: expected BiasReference::kPrediction (0) or kSnapshot (1), got " +
+                       std::to_string(static_cast<int>(reference)));
     NLOSLOC_ENSURE(
         soft_threshold >= 0.0 && std::isfinite(soft_threshold),
         "options.soft_threshold: expected a finite value >= 0, got " + std::to_string(soft_threshold));
@@ -116,7 +123,7 @@ class QpBiasEkf {
       : motion_(motion),
         opt_(options),
         bias_est_(anchors, solver_or_default(std::move(solver), anchors, options)) {
-    opt_.validate();
+    opt_.validate();  // before set_sparsity / set_soft_threshold: messages name the options' fields
     bias_est_.set_sparsity(opt_.sparsity);
     bias_est_.set_soft_threshold(opt_.soft_threshold);
     initial.validate("initial");
@@ -204,7 +211,9 @@ class QpBiasEkf {
 
  private:
   /// update_unchecked(z), restoring the belief (x0, P0, t0: the one before the call) and the bias when it
-  /// throws: the built-in solvers do not, but a custom BoxQp may.
+  /// throws: the built-in solvers do not, but a custom BoxQp may. The estimator restores its own last
+  /// estimate and intermediates (BiasEstimator::solve_scaled), and last_ is only set on success, so the
+  /// whole tracker is as it was.
   MitigationStep guarded_update(const Eigen::Ref<const VecX>& z, const State& x0, const Cov& P0, double t0) {
     bias_back_ = bias_;  // same size: no allocation
     try {
@@ -261,7 +270,7 @@ class QpBiasEkf {
         const Vec<2> hint = x_.head<2>();
         // Eqs. (12)-(15): r = alpha(k), Sigma_v = D_LOS(k) of eq. (27) (kPrediction), or Sec. 3 snapshot.
         const BiasEstimate& be = opt_.reference == BiasReference::kPrediction
-                                     ? bias_est_.estimate_from_innovation(z, a_, t.S)
+                                     ? bias_est_.estimate_from_prediction(z, a_, t.S)
                                      : bias_est_.estimate(z, var_, &hint);
         res.flags |= be.flags;
         res.bias_estimated = true;

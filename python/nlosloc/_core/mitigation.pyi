@@ -154,7 +154,7 @@ class BoxQp:
         """
     def solve(self, H: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], g: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], lower: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], upper: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> QpResult:
         """
-        Solves the QP. H (n, n) symmetric PSD, g, lower, upper (n,), lower <= upper; returns QpResult.
+        Solves the QP. H (n, n) symmetric (to 1e-10 of its largest |entry|) positive semidefinite (to n 1e-12 of its largest diagonal entry), g, lower, upper (n,) finite, lower <= upper, else ValueError naming the argument; returns QpResult.
         """
     @property
     def active_set(self) -> typing.Any:
@@ -377,7 +377,7 @@ class BiasEstimator:
         """
     def estimate_from_innovation(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], innovation: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], D: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.f_contiguous"]) -> BiasEstimate:
         """
-        Eqs. (12)-(15) referenced to a tracker's prediction: r = innovation (M,) (eq. 26), L = I, Sigma_v = D (M, M) (eq. 27: F P F^T + R), bounds from the ranges z (M,); returns a BiasEstimate copy.
+        Eqs. (12)-(15) referenced to a tracker's prediction: r = innovation (M,) (eq. 26), L = I, Sigma_v = D (M, M) (eq. 27: F P F^T + R), bounds from the ranges z (M,); returns a BiasEstimate copy. D must be finite, symmetric and positive definite, else ValueError naming D (the estimator unchanged).
         """
     @property
     def H0(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -469,7 +469,7 @@ class QpBiasEkfOptions:
         ...
     def validate(self) -> None:
         """
-        Raises ValueError naming the field (options.gamma, options.noise.*, options.soft_threshold) that QpBiasEkf would refuse; the fields are not checked when set.
+        Raises ValueError naming the field (options.gamma, options.noise.*, options.sparsity, options.reference, options.soft_threshold) that QpBiasEkf would refuse, with the message QpBiasEkf gives; the fields are not checked when set.
         """
     @property
     def always_estimate(self) -> bool:
@@ -602,11 +602,11 @@ class QpBiasEkf:
         """
         Replaces the belief and, when t is given, the time; clears the last bias and decision.
         """
-    def step(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> MitigationStep:
+    def step(self, z: numpy.typing.ArrayLike) -> MitigationStep:
         """
         predict() then update(z).
         """
-    def update(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> MitigationStep:
+    def update(self, z: numpy.typing.ArrayLike) -> MitigationStep:
         """
         Update with ranges z (M,), NaN = missing.
         """
@@ -721,9 +721,9 @@ class BiasAugmentedEkf:
         """
         Sets the kinematic belief and, when t is given, the time; resets the biases to the prior.
         """
-    def step(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> nlosloc._core.filters.StepResult:
+    def step(self, z: numpy.typing.ArrayLike) -> nlosloc._core.filters.StepResult:
         ...
-    def update(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> nlosloc._core.filters.StepResult:
+    def update(self, z: numpy.typing.ArrayLike) -> nlosloc._core.filters.StepResult:
         ...
     @property
     def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -771,7 +771,7 @@ def make_box_qp(n: typing.SupportsInt | typing.SupportsIndex, settings: BoxQpSet
     """
 def reference_point(anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], hint: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] | None = None) -> ReferencePoint:
     """
-    Centre of the feasible region of the range discs (Ke & Wu Sec. 3): mean of the region's vertices; without vertices, `hint` if given, else the least-squares range fit.
+    Centre of the feasible region of the range discs (Ke & Wu Sec. 3): mean of the region's vertices; without vertices, `hint` if given, else the least-squares range fit. anchors (M, 2) finite, M >= 2; z (M,) finite ranges >= 0; else ValueError naming the argument.
     """
 FLAG_BOUNDS_CLAMPED: int = 2
 FLAG_DEGENERATE_GEOMETRY: int = 8

@@ -458,7 +458,7 @@ class MeasurementStack:
         """
         Analytic Jacobian dg/dx, shape (rows, n).
         """
-    def linear_h(self, i: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    def linear_h(self, i: int) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         h of linear row i (y = h^T x + n), a copy.
         """

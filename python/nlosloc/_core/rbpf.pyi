@@ -355,19 +355,19 @@ class Rbpf:
         """
         The Gaussian summary as a tuple (mean (n,), cov (n, n)).
         """
-    def check_inputs(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+    def check_inputs(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> None:
         """
         Raises the ValueError a step with y (m,) and o (B,) would raise, changing nothing (run() checks every row this way before its first step).
         """
-    def log_weight(self, i: typing.SupportsInt | typing.SupportsIndex) -> float:
+    def log_weight(self, i: int) -> float:
         """
         Normalised log weight of particle i.
         """
-    def particle_cov(self, i: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+    def particle_cov(self, i: int) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
-    def particle_mean(self, i: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    def particle_mean(self, i: int) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
-    def particle_situation(self, i: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+    def particle_situation(self, i: int) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         ...
     def reset(self, mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], cov: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         """
@@ -389,7 +389,7 @@ class Rbpf:
         """
         Most probable condition per anchor (B,).
         """
-    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> RbpfStepInfo:
+    def step(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> RbpfStepInfo:
         """
         One iteration with measurements y (m,) and quality statistics o (B,).
         """
@@ -468,7 +468,7 @@ class ParticleFilter:
         """
         The Gaussian summary as a tuple (mean (n,), cov (n, n)).
         """
-    def check_inputs(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+    def check_inputs(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> None:
         """
         Raises the ValueError a step with y (m,) and o (B,) would raise, changing nothing (run() checks every row this way before its first step).
         """
@@ -492,7 +492,7 @@ class ParticleFilter:
         """
         Most probable condition per anchor (B,).
         """
-    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> PfStepInfo:
+    def step(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> PfStepInfo:
         ...
     @property
     def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -568,7 +568,7 @@ class Iukf:
         """
         The Gaussian summary as a tuple (mean (n,), cov (n, n)).
         """
-    def check_inputs(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+    def check_inputs(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> None:
         """
         Raises the ValueError a step with y (m,) and o (B,) would raise, changing nothing (run() checks every row this way before its first step).
         """
@@ -586,15 +586,15 @@ class Iukf:
         """
         Most probable condition per anchor (B,).
         """
-    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Any = None, *, sight: typing.Any = None) -> nlosloc._core.filters.StepResult:
+    def step(self, y: numpy.typing.ArrayLike, o: typing.Any = None, *, sight: typing.Any = None) -> nlosloc._core.filters.StepResult:
         """
         With o (B,): step_quality(y, o). With sight= (B,) ints: the C++ step(y, sight), a known situation (one-hot probabilities: the plain UKF). Returns a StepResult.
         """
-    def step_quality(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> nlosloc._core.filters.StepResult:
+    def step_quality(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> nlosloc._core.filters.StepResult:
         """
         predict, forward filter with o (B,), update with y (m,); a rejected call changes nothing. Returns a StepResult.
         """
-    def update_with_probabilities(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], gamma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> nlosloc._core.filters.StepResult:
+    def update_with_probabilities(self, y: numpy.typing.ArrayLike, gamma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> nlosloc._core.filters.StepResult:
         """
         Update with explicit (B, N_z) condition probabilities.
         """
@@ -669,7 +669,7 @@ def enumerate_offspring(A: typing.Annotated[numpy.typing.ArrayLike, numpy.float6
     """
     The children of one particle as the RBPF expands them (Huerta eq. 23): every situation vector when N_z^B <= limit, in key order, else the `limit` with the largest sum_b A[b, s_b] (best first, enumerate_best). A (B, N_z): log factors per anchor and condition (finite or -inf). Returns (keys (K,) uint64 as encode_situation, sums (K,)).
     """
-def merge_greedy(keys: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], d_min: typing.SupportsFloat | typing.SupportsIndex, with_pairs: bool = False, threads: typing.SupportsInt | typing.SupportsIndex = 1) -> tuple:
+def merge_greedy(keys: collections.abc.Sequence[int], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], logw: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], d_min: typing.SupportsFloat | typing.SupportsIndex, with_pairs: bool = False, threads: typing.SupportsInt | typing.SupportsIndex = 1) -> tuple:
     """
     Greedy merge of eqs. (29)-(30): keys (K,) situation keys, means (n, K), logw (K,). Returns (new logw, number absorbed), and with with_pairs=True also an (absorbed, 2) int array of (absorber, absorbed) pairs in merge order (each absorbed particle once; its weight moved is its input weight). threads > 1 runs merge_greedy_parallel (the joint PF's merge; keys below 2^32, no pairs): the same result on a pool of that many threads.
     """
