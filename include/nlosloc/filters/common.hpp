@@ -32,16 +32,21 @@ void symmetrize(M& A) {
 }
 
 /// In-place Cholesky-Banachiewicz on the lower triangle of a small dense matrix (the upper triangle is
-/// ignored and left as is). Returns false when a pivot is not positive (A not positive definite).
-/// Hand-written because Eigen's dynamic-size LLT goes through blocked level-3 kernels whose set-up costs
-/// more than the arithmetic at the sizes of a measurement update (m <= ~20).
+/// ignored and left as is). Returns false when a pivot is not positive (A not positive definite), and
+/// then, when asked, the row and the pivot (for a message). Hand-written because Eigen's dynamic-size LLT
+/// goes through blocked level-3 kernels whose set-up costs more than the arithmetic at the sizes of a
+/// measurement update (m <= ~20).
 template <class M>
-bool small_cholesky_inplace(M& A) {
+bool small_cholesky_inplace(M& A, Eigen::Index* bad_row = nullptr, double* bad_pivot = nullptr) {
   const Eigen::Index n = A.rows();
   for (Eigen::Index j = 0; j < n; ++j) {
     double d = A(j, j);
     for (Eigen::Index k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
-    if (!(d > 0.0)) return false;
+    if (!(d > 0.0)) {
+      if (bad_row) *bad_row = j;
+      if (bad_pivot) *bad_pivot = d;
+      return false;
+    }
     d = std::sqrt(d);
     A(j, j) = d;
     for (Eigen::Index i = j + 1; i < n; ++i) {

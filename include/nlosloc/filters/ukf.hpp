@@ -131,7 +131,7 @@ class AugmentedMoments {
       eval(x - g * L.col(i), 1 + La + i);
     }
     for (int k = 0; k < qa; ++k) {
-      const int in = active_[static_cast<std::size_t>(k)];
+      const int in = qa < q_ ? active_[static_cast<std::size_t>(k)] : k;
       u_[in] = g;
       eval(x, 1 + N + k);
       u_[in] = -g;
@@ -156,13 +156,12 @@ class AugmentedMoments {
   int active_inputs() const { return qa_; }
 
  private:
-  /// Fills active_[0, qa_) with the inputs read by the rows of y that are not NaN, in input order, and
-  /// returns their weights; every input and `w` when no row is missing (or the scheme has no weights for
-  /// the smaller dimension).
+  /// Sets qa_ to the number of inputs read by the rows of y that are not NaN and, when fewer than q_,
+  /// lists them in active_[0, qa_) in input order; returns their weights. Every input (qa_ = q_, input k
+  /// is the k-th) and `w` when no row is missing or the scheme has no weights for the smaller dimension.
   template <class Meas>
   const SigmaWeights& select_inputs(const Meas& meas, const SigmaWeights& w, const VecX* y) {
     qa_ = q_;
-    for (int k = 0; k < q_; ++k) active_[static_cast<std::size_t>(k)] = k;
     if (!y || !y->hasNaN()) return w;
     std::fill(used_.begin(), used_.end(), char{0});
     for (int i = 0; i < meas.rows(); ++i)
@@ -171,10 +170,7 @@ class AugmentedMoments {
     int qa = 0;
     for (int k = 0; k < q_; ++k)
       if (used_[static_cast<std::size_t>(k)]) active_[static_cast<std::size_t>(qa++)] = k;
-    if (qa == q_ || !wok_[static_cast<std::size_t>(qa)]) {
-      for (int k = 0; k < q_; ++k) active_[static_cast<std::size_t>(k)] = k;
-      return w;
-    }
+    if (qa == q_ || !wok_[static_cast<std::size_t>(qa)]) return w;
     qa_ = qa;
     return wtab_[static_cast<std::size_t>(qa)];
   }

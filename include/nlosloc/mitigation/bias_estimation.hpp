@@ -435,22 +435,8 @@ class BiasEstimator {
   int factor_covariance(const Eigen::Ref<const MatX>& D, double& pivot) {
     T_ = D;  // same size: no allocation
     nlosloc::detail::symmetrize(T_);
-    for (int j = 0; j < M_; ++j) {
-      double d = T_(j, j);
-      for (int k = 0; k < j; ++k) d -= T_(j, k) * T_(j, k);
-      if (!(d > 0.0)) {
-        pivot = d;
-        return j;
-      }
-      d = std::sqrt(d);
-      T_(j, j) = d;
-      for (int i = j + 1; i < M_; ++i) {
-        double v = T_(i, j);
-        for (int k = 0; k < j; ++k) v -= T_(i, k) * T_(j, k);
-        T_(i, j) = v / d;
-      }
-    }
-    return -1;
+    Eigen::Index row = -1;
+    return nlosloc::detail::small_cholesky_inplace(T_, &row, &pivot) ? -1 : static_cast<int>(row);
   }
 
   /// The second form with the factor of D in T_ (factor_covariance; pd false: it failed).

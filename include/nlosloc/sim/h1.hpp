@@ -234,7 +234,6 @@ class H1 : public Scenario {
   }
   std::vector<std::string> choices() const override {
     const auto f = [](double v) { return detail::fmt_num(v); };
-    const auto beta = [&f](double a, double b) { return "Beta(" + f(a) + ", " + f(b) + ")"; };
     // serving-sector changes along the truth's path (generate()'s)
     int changes = 0;
     for (int k = 0, prev = -1; k < p_.steps; ++k) {
@@ -259,9 +258,7 @@ class H1 : public Scenario {
       const double s = p_.initial_std[i];
       init += (i > 0 ? ", " : "") + (s == 1.0 ? std::string("1") : f(s) + "^2");
     }
-    const std::string discarded = p_.discard == 0
-                                      ? std::string("no step discarded")
-                                      : "first " + std::to_string(p_.discard) + " steps discarded";
+    const std::string discarded = detail::fmt_discarded(p_.discard);
     return {
         "BS at the origin with sectors of 120 deg whose broadsides point at " + f(p_.sector_deg[0]) + ", " +
             f(p_.sector_deg[1]) + " and " + f(p_.sector_deg[2]) +
@@ -282,8 +279,8 @@ class H1 : public Scenario {
             detail::fmt_num(toa_nlos.scale(), 3) + " m, mean " + detail::fmt_num(toa_nlos.mean(), 3) +
             " m, no Gaussian term added); phase LOS N(0, " + f(p_.aoa_los_var) + "), NLOS N(0, " +
             f(p_.aoa_nlos_var) + ")",
-        "quality statistic o ~ " + beta(p_.quality_los_a, p_.quality_los_b) + " in LOS, " +
-            beta(p_.quality_nlos_a, p_.quality_nlos_b) + " in NLOS, independent per step",
+        "quality statistic o ~ " + detail::fmt_beta(p_.quality_los_a, p_.quality_los_b) + " in LOS, " +
+            detail::fmt_beta(p_.quality_nlos_a, p_.quality_nlos_b) + " in NLOS, independent per step",
         "initial belief: mean = true state + N(0, diag(" + init +
             ")) drawn once per run and shared by all estimators; covariance diag(" + init +
             "); first update with y_0, " + discarded,

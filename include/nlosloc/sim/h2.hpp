@@ -112,7 +112,6 @@ class H2 : public Scenario {
   }
   std::vector<std::string> choices() const override {
     const auto f = [](double v) { return detail::fmt_num(v); };
-    const auto beta = [&f](double a, double b) { return "Beta(" + f(a) + ", " + f(b) + ")"; };
     const Vec<6> var = prior_variances();
     std::string prior;
     for (int i = 0; i < 6; ++i) prior += (i > 0 ? ", " : "") + f(var[i]);
@@ -123,9 +122,7 @@ class H2 : public Scenario {
     const std::string switches = p_ln == p_nl ? detail::fmt_num(p_ln, 2)
                                               : "LOS -> NLOS " + detail::fmt_num(p_ln, 2) + ", NLOS -> LOS " +
                                                     detail::fmt_num(p_nl, 2);
-    const std::string discarded = p_.discard == 0
-                                      ? std::string("no step discarded")
-                                      : "first " + std::to_string(p_.discard) + " steps discarded";
+    const std::string discarded = detail::fmt_discarded(p_.discard);
     return {
         "anchors at the hexagon vertices (" + f(p_.side) + " cos(60 k deg), " + f(p_.side) +
             " sin(60 k deg)), k = 0..5",
@@ -140,8 +137,8 @@ class H2 : public Scenario {
         "sight: one two-state chain per anchor, eq. (17) with the transversal speed of eq. (10), s_0 from "
         "eq. (18) (p_N = " +
             detail::fmt_num(p_n, 3) + "), anchors independent (eq. 9)",
-        "quality statistic o ~ " + beta(p_.quality_los_a, p_.quality_los_b) + " in LOS, " +
-            beta(p_.quality_nlos_a, p_.quality_nlos_b) + " in NLOS, per anchor and step",
+        "quality statistic o ~ " + detail::fmt_beta(p_.quality_los_a, p_.quality_los_b) + " in LOS, " +
+            detail::fmt_beta(p_.quality_nlos_a, p_.quality_nlos_b) + " in NLOS, per anchor and step",
         discarded + "; first update with y_0",
         "EKF-LOS: EKF with the LOS noise on every row (eq. 6-7 model)",
         "CHEN: all anchor sets of >= 4 anchors (over-determined for p, tau), normalised residual / set size, "

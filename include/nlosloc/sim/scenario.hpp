@@ -42,6 +42,13 @@ inline std::string fmt_num(double v, int digits = 6) {
 }
 /// A point "(x, y)" in fmt_num's format.
 inline std::string fmt_point(double x, double y) { return "(" + fmt_num(x) + ", " + fmt_num(y) + ")"; }
+/// "Beta(a, b)", the quality statistic's law in the Huerta scenarios' choices.
+inline std::string fmt_beta(double a, double b) { return "Beta(" + fmt_num(a) + ", " + fmt_num(b) + ")"; }
+/// The choices' words for the first `discard` steps left out of the errors.
+inline std::string fmt_discarded(int discard) {
+  return discard == 0 ? std::string("no step discarded")
+                      : "first " + std::to_string(discard) + " steps discarded";
+}
 }  // namespace nlosloc::detail
 
 namespace nlosloc::sim {
