@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bind.hpp"
+#include "field_value.hpp"
 #include "int_arg.hpp"
 #include "nlosloc/core/cholesky.hpp"
 #include "nlosloc/core/logsumexp.hpp"
@@ -176,8 +177,9 @@ void define_module(py::module_& m) {
       .value("Julier", SigmaScheme::Kind::kJulier)
       .value("Cubature", SigmaScheme::Kind::kCubature)
       .value("Huerta", SigmaScheme::Kind::kHuerta);
-  sch.def(py::init([](SigmaScheme::Kind kind, double alpha, double beta, double kappa) {
-            return SigmaScheme{kind, alpha, beta, kappa};
+  sch.def(py::init([](const bind::StrictArg<SigmaScheme::Kind>& kind, const bind::StrictArg<double>& alpha,
+                      const bind::StrictArg<double>& beta, const bind::StrictArg<double>& kappa) {
+            return SigmaScheme{kind.get("kind"), alpha.get("alpha"), beta.get("beta"), kappa.get("kappa")};
           }),
           py::arg_v("kind", SigmaScheme::Kind::kScaled, "SigmaScheme.Kind.Scaled"), py::arg("alpha") = 1.0,
           py::arg("beta") = 2.0, py::arg("kappa") = 0.0,

@@ -191,7 +191,8 @@ void define_module(py::module_& m) {
     using A = AnyFilter<KfT>;
     py::class_<A> c(m, "Kf", "Linear Kalman filter y = H x + n, n ~ N(0, R).");
     c.def(py::init([](const py::object& motion, const MatX& H, const MatX& R, const VecX& mean,
-                      const MatX& cov, double t0) {
+                      const MatX& cov, const bind::StrictArg<double>& t0_in) {
+            const double t0 = t0_in.get("t0");
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return Kf<std::decay_t<decltype(mo)>>(mo, H, R, g, t0);
             });
@@ -224,7 +225,8 @@ void define_module(py::module_& m) {
     using A = AnyFilter<EkfT>;
     py::class_<A> c(m, "Ekf", "Extended Kalman filter over a MeasurementStack (noise moments per sight).");
     c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean,
-                      const MatX& cov, double t0) {
+                      const MatX& cov, const bind::StrictArg<double>& t0_in) {
+            const double t0 = t0_in.get("t0");
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return Ekf<std::decay_t<decltype(mo)>>(mo, meas, g, t0);
             });
@@ -239,7 +241,8 @@ void define_module(py::module_& m) {
                     "UKF with additive measurement noise (exact linear prediction; sigma points redrawn from "
                     "the predicted belief for the update).");
     c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean,
-                      const MatX& cov, const SigmaScheme& scheme, double t0) {
+                      const MatX& cov, const SigmaScheme& scheme, const bind::StrictArg<double>& t0_in) {
+            const double t0 = t0_in.get("t0");
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return Ukf<std::decay_t<decltype(mo)>>(mo, meas, g, scheme, t0);
             });
@@ -256,7 +259,8 @@ void define_module(py::module_& m) {
                     "UKF with the measurement noise in the sigma points through each distribution's quantile "
                     "map (Huerta Sec. V-A; Grisales eq. 29).");
     c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean,
-                      const MatX& cov, const SigmaScheme& scheme, double t0) {
+                      const MatX& cov, const SigmaScheme& scheme, const bind::StrictArg<double>& t0_in) {
+            const double t0 = t0_in.get("t0");
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return UkfAugmented<std::decay_t<decltype(mo)>>(mo, meas, g, scheme, t0);
             });

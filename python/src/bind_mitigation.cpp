@@ -20,6 +20,7 @@
 #include "native_makers.hpp"
 #include "nlosloc/mitigation/mitigation.hpp"
 #include "nlosloc/sim/k1.hpp"
+#include "params_field.hpp"
 #include "py_object.hpp"
 
 namespace py = pybind11;
@@ -207,12 +208,19 @@ void define_module(pybind11::module_& m) {
 
   py::class_<BoxQpSettings>(m, "BoxQpSettings", "Accuracy settings of the box-QP solvers (DESIGN.md).")
       .def(py::init<>())
-      .def_readwrite("eps_abs", &BoxQpSettings::eps_abs, "Absolute residual tolerance (> 0).")
-      .def_readwrite("check_duality_gap", &BoxQpSettings::check_duality_gap, "Also require a small gap.")
-      .def_readwrite("eps_duality_gap_abs", &BoxQpSettings::eps_duality_gap_abs, "Duality-gap tolerance.")
-      .def_readwrite("max_iter", &BoxQpSettings::max_iter, "Iteration limit (>= 1).")
-      .def_readwrite("compute_preconditioner", &BoxQpSettings::compute_preconditioner,
-                     "Ruiz equilibration before each solve (off: problems are pre-scaled).");
+      .def_property("eps_abs", bind::field_get<&BoxQpSettings::eps_abs>(),
+                    bind::field_set<&BoxQpSettings::eps_abs>("eps_abs"), "Absolute residual tolerance (> 0).")
+      .def_property("check_duality_gap", bind::field_get<&BoxQpSettings::check_duality_gap>(),
+                    bind::field_set<&BoxQpSettings::check_duality_gap>("check_duality_gap"),
+                    "Also require a small gap.")
+      .def_property("eps_duality_gap_abs", bind::field_get<&BoxQpSettings::eps_duality_gap_abs>(),
+                    bind::field_set<&BoxQpSettings::eps_duality_gap_abs>("eps_duality_gap_abs"),
+                    "Duality-gap tolerance.")
+      .def_property("max_iter", bind::field_get<&BoxQpSettings::max_iter>(),
+                    bind::field_set<&BoxQpSettings::max_iter>("max_iter"), "Iteration limit (>= 1).")
+      .def_property("compute_preconditioner", bind::field_get<&BoxQpSettings::compute_preconditioner>(),
+                    bind::field_set<&BoxQpSettings::compute_preconditioner>("compute_preconditioner"),
+                    "Ruiz equilibration before each solve (off: problems are pre-scaled).");
 
   py::class_<QpResult>(m, "QpResult", "What one BoxQp.solve reports; the minimiser is BoxQp.x.")
       .def_readonly("status", &QpResult::status)
@@ -290,15 +298,19 @@ void define_module(pybind11::module_& m) {
   m.attr("FLAG_UPDATE_REJECTED") = static_cast<unsigned>(kFlagUpdateRejected);
 
   py::class_<RangeNoise>(m, "RangeNoise", "Range noise std_i = sigma0 + relative * d_i (m).")
-      .def(py::init([](double sigma0, double relative, double min_std) {
-             RangeNoise n{sigma0, relative, min_std};
+      .def(py::init([](const bind::StrictArg<double>& sigma0, const bind::StrictArg<double>& relative,
+                       const bind::StrictArg<double>& min_std) {
+             RangeNoise n{sigma0.get("sigma0"), relative.get("relative"), min_std.get("min_std")};
              n.validate("RangeNoise");
              return n;
            }),
            py::arg("sigma0") = 50.0, py::arg("relative") = 0.0, py::arg("min_std") = 1e-3)
-      .def_readwrite("sigma0", &RangeNoise::sigma0)
-      .def_readwrite("relative", &RangeNoise::relative)
-      .def_readwrite("min_std", &RangeNoise::min_std)
+      .def_property("sigma0", bind::field_get<&RangeNoise::sigma0>(),
+                    bind::field_set<&RangeNoise::sigma0>("sigma0"))
+      .def_property("relative", bind::field_get<&RangeNoise::relative>(),
+                    bind::field_set<&RangeNoise::relative>("relative"))
+      .def_property("min_std", bind::field_get<&RangeNoise::min_std>(),
+                    bind::field_set<&RangeNoise::min_std>("min_std"))
       .def("std_at", &RangeNoise::std_at, py::arg("d"), "Noise std at distance d (m).")
       .def(
           "validate", [](const RangeNoise& n, const std::string& name) { n.validate(name.c_str()); },
@@ -362,11 +374,19 @@ void define_module(pybind11::module_& m) {
            "Sigma_v = D (M, M) (eq. 27: F P F^T + R), bounds from the ranges z (M,); returns a BiasEstimate "
            "copy. D must be finite, symmetric and positive definite, else ValueError naming D (the "
            "estimator unchanged).")
-      .def_property("sparsity", &BiasEstimator::sparsity, &BiasEstimator::set_sparsity,
-                    "L1 tie-break weight added to eq. (14) (0 = plain eq. 14).")
-      .def_property("soft_threshold", &BiasEstimator::soft_threshold, &BiasEstimator::set_soft_threshold,
-                    "lambda of the soft threshold of estimate_from_innovation (0 = eq. 14 as written): with "
-                    "diagonal D, b_i = clip(r_i - lambda sqrt(D_ii), 0, b_i^U).")
+      .def_property(
+          "sparsity", &BiasEstimator::sparsity,
+          [](BiasEstimator& e, const bind::StrictArg<double>& v) {
+            e.set_sparsity(v.get("BiasEstimator.sparsity"));
+          },
+          "L1 tie-break weight added to eq. (14) (0 = plain eq. 14).")
+      .def_property(
+          "soft_threshold", &BiasEstimator::soft_threshold,
+          [](BiasEstimator& e, const bind::StrictArg<double>& v) {
+            e.set_soft_threshold(v.get("BiasEstimator.soft_threshold"));
+          },
+          "lambda of the soft threshold of estimate_from_innovation (0 = eq. 14 as written): with "
+          "diagonal D, b_i = clip(r_i - lambda sqrt(D_ii), 0, b_i^U).")
       .def_property_readonly(
           "solver_name", [](const BiasEstimator& e) { return e.solver().name(); },
           "Name of the eq. (14) solver in use.")
@@ -393,19 +413,30 @@ void define_module(pybind11::module_& m) {
   // ---- trackers -------------------------------------------------------------------------------------
   py::class_<QpBiasEkfOptions>(m, "QpBiasEkfOptions", "Options of QpBiasEkf.")
       .def(py::init<>())
-      .def_readwrite("gamma", &QpBiasEkfOptions::gamma, "Scaling factor of eq. (32), >= 1.")
-      .def_readwrite("noise", &QpBiasEkfOptions::noise, "RangeNoise of R(k).")
-      .def_readwrite("mitigate", &QpBiasEkfOptions::mitigate, "False: plain EKF (eqs. 20-24).")
-      .def_readwrite("always_estimate", &QpBiasEkfOptions::always_estimate, "Run the QP every step.")
-      .def_readwrite("sparsity", &QpBiasEkfOptions::sparsity, "L1 tie-break of eq. (14) (SNAPSHOT only).")
-      .def_readwrite(
-          "reference", &QpBiasEkfOptions::reference,
+      .def_property("gamma", bind::field_get<&QpBiasEkfOptions::gamma>(),
+                    bind::field_set<&QpBiasEkfOptions::gamma>("gamma"), "Scaling factor of eq. (32), >= 1.")
+      .def_property("noise", bind::field_get<&QpBiasEkfOptions::noise>(),
+                    bind::field_set<&QpBiasEkfOptions::noise>("noise"), "RangeNoise of R(k).")
+      .def_property("mitigate", bind::field_get<&QpBiasEkfOptions::mitigate>(),
+                    bind::field_set<&QpBiasEkfOptions::mitigate>("mitigate"),
+                    "False: plain EKF (eqs. 20-24).")
+      .def_property("always_estimate", bind::field_get<&QpBiasEkfOptions::always_estimate>(),
+                    bind::field_set<&QpBiasEkfOptions::always_estimate>("always_estimate"),
+                    "Run the QP every step.")
+      .def_property("sparsity", bind::field_get<&QpBiasEkfOptions::sparsity>(),
+                    bind::field_set<&QpBiasEkfOptions::sparsity>("sparsity"),
+                    "L1 tie-break of eq. (14) (SNAPSHOT only).")
+      .def_property(
+          "reference", bind::field_get<&QpBiasEkfOptions::reference>(),
+          bind::field_set<&QpBiasEkfOptions::reference>("reference"),
           "BiasReference.Prediction (default: r = innovation, Sigma_v = eq. 27) or Snapshot (Sec. 3).")
-      .def_readwrite("drop_free_rows", &QpBiasEkfOptions::drop_free_rows,
-                     "Leave rows whose b^_i is strictly inside its box out of the update (default True).")
-      .def_readwrite("soft_threshold", &QpBiasEkfOptions::soft_threshold,
-                     "PREDICTION only: lambda of an L1 term on eq. (14) keeping rows within about lambda "
-                     "standard deviations as LOS (0 = eq. 14 as written; not in the paper).")
+      .def_property("drop_free_rows", bind::field_get<&QpBiasEkfOptions::drop_free_rows>(),
+                    bind::field_set<&QpBiasEkfOptions::drop_free_rows>("drop_free_rows"),
+                    "Leave rows whose b^_i is strictly inside its box out of the update (default True).")
+      .def_property("soft_threshold", bind::field_get<&QpBiasEkfOptions::soft_threshold>(),
+                    bind::field_set<&QpBiasEkfOptions::soft_threshold>("soft_threshold"),
+                    "PREDICTION only: lambda of an L1 term on eq. (14) keeping rows within about lambda "
+                    "standard deviations as LOS (0 = eq. 14 as written; not in the paper).")
       .def("validate", &QpBiasEkfOptions::validate,
            "Raises ValueError naming the field (options.gamma, options.noise.*, options.sparsity, "
            "options.reference, options.soft_threshold) that QpBiasEkf would refuse, with the message "
@@ -425,7 +456,9 @@ void define_module(pybind11::module_& m) {
                         "Ke & Wu 2011 proposed tracker: EKF with QP-estimated NLOS biases (eq. 25) and the "
                         "innovation test of eqs. (31)-(32). State [x, y, vx, vy].")
       .def(py::init([](const ConstantVelocity2& motion, const MatX& anchors, const VecX& mean,
-                       const MatX& cov, const QpBiasEkfOptions& o, const py::object& solver, double t0) {
+                       const MatX& cov, const QpBiasEkfOptions& o, const py::object& solver,
+                       const bind::StrictArg<double>& t0_in) {
+             const double t0 = t0_in.get("t0");
              nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
              // "default": QpBiasEkf's own choice (EnumerationBoxQp for the prediction reference, M <= 8)
              std::unique_ptr<BoxQp> qp =
@@ -506,7 +539,9 @@ void define_module(pybind11::module_& m) {
       .def_property_readonly("options", &QpBiasEkf::options, py::return_value_policy::copy)
       .def(
           "set_belief",
-          [](QpBiasEkf& f, const VecX& mean, const MatX& cov, std::optional<double> t) {
+          [](QpBiasEkf& f, const VecX& mean, const MatX& cov,
+             const std::optional<bind::StrictArg<double>>& t_in) {
+            const std::optional<double> t = bind::optional_get(t_in, "t");
             f.set_belief(to_belief4(mean, cov), t.value_or(f.time()));
           },
           py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
@@ -514,12 +549,18 @@ void define_module(pybind11::module_& m) {
 
   py::class_<BiasAugmentedEkfOptions>(m, "BiasAugmentedEkfOptions", "Options of BiasAugmentedEkf.")
       .def(py::init<>())
-      .def_readwrite("noise", &BiasAugmentedEkfOptions::noise)
-      .def_readwrite("bias_prior_mean", &BiasAugmentedEkfOptions::bias_prior_mean)
-      .def_readwrite("bias_prior_std", &BiasAugmentedEkfOptions::bias_prior_std)
-      .def_readwrite("bias_walk_std", &BiasAugmentedEkfOptions::bias_walk_std)
-      .def_readwrite("iterations", &BiasAugmentedEkfOptions::iterations)
-      .def_readwrite("nonnegative", &BiasAugmentedEkfOptions::nonnegative)
+      .def_property("noise", bind::field_get<&BiasAugmentedEkfOptions::noise>(),
+                    bind::field_set<&BiasAugmentedEkfOptions::noise>("noise"))
+      .def_property("bias_prior_mean", bind::field_get<&BiasAugmentedEkfOptions::bias_prior_mean>(),
+                    bind::field_set<&BiasAugmentedEkfOptions::bias_prior_mean>("bias_prior_mean"))
+      .def_property("bias_prior_std", bind::field_get<&BiasAugmentedEkfOptions::bias_prior_std>(),
+                    bind::field_set<&BiasAugmentedEkfOptions::bias_prior_std>("bias_prior_std"))
+      .def_property("bias_walk_std", bind::field_get<&BiasAugmentedEkfOptions::bias_walk_std>(),
+                    bind::field_set<&BiasAugmentedEkfOptions::bias_walk_std>("bias_walk_std"))
+      .def_property("iterations", bind::field_get<&BiasAugmentedEkfOptions::iterations>(),
+                    bind::field_set<&BiasAugmentedEkfOptions::iterations>("iterations"))
+      .def_property("nonnegative", bind::field_get<&BiasAugmentedEkfOptions::nonnegative>(),
+                    bind::field_set<&BiasAugmentedEkfOptions::nonnegative>("nonnegative"))
       .def("validate", &BiasAugmentedEkfOptions::validate,
            "Raises ValueError naming the field that BiasAugmentedEkf would refuse; the fields are not "
            "checked when set.");
@@ -527,12 +568,14 @@ void define_module(pybind11::module_& m) {
   py::class_<BiasAugmentedEkf>(m, "BiasAugmentedEkf",
                                "Iterated NLOS EKF (Najar & Vidal 2003, Ke & Wu Sec. 1): state [x, y, vx, vy, "
                                "b_1..b_M], iterated EKF update.")
-      .def(py::init([](const ConstantVelocity2& motion, const MatX& anchors, const VecX& mean,
-                       const MatX& cov, const BiasAugmentedEkfOptions& o, double t0) {
-             return BiasAugmentedEkf(motion, anchors, to_belief4(mean, cov), o, t0);
-           }),
-           py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
-           py::arg_v("options", BiasAugmentedEkfOptions(), "BiasAugmentedEkfOptions()"), py::arg("t0") = 0.0)
+      .def(
+          py::init([](const ConstantVelocity2& motion, const MatX& anchors, const VecX& mean, const MatX& cov,
+                      const BiasAugmentedEkfOptions& o, const bind::StrictArg<double>& t0_in) {
+            const double t0 = t0_in.get("t0");
+            return BiasAugmentedEkf(motion, anchors, to_belief4(mean, cov), o, t0);
+          }),
+          py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
+          py::arg_v("options", BiasAugmentedEkfOptions(), "BiasAugmentedEkfOptions()"), py::arg("t0") = 0.0)
       .def("predict", &BiasAugmentedEkf::predict)
       .def("update", bind::vector_method<BiasAugmentedEkf, &BiasAugmentedEkf::update>("z"), py::arg("z"))
       .def("step", bind::vector_method<BiasAugmentedEkf, &BiasAugmentedEkf::step>("z"), py::arg("z"))
@@ -556,14 +599,18 @@ void define_module(pybind11::module_& m) {
                              "The motion model (a copy).")
       .def(
           "set_belief",
-          [](BiasAugmentedEkf& f, const VecX& mean, const MatX& cov, std::optional<double> t) {
+          [](BiasAugmentedEkf& f, const VecX& mean, const MatX& cov,
+             const std::optional<bind::StrictArg<double>>& t_in) {
+            const std::optional<double> t = bind::optional_get(t_in, "t");
             f.set_belief(to_belief4(mean, cov), t.value_or(f.time()));
           },
           py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
           "Sets the kinematic belief and, when t is given, the time; resets the biases to the prior.")
       .def(
           "set_augmented_belief",
-          [](BiasAugmentedEkf& f, const VecX& mean, const MatX& cov, std::optional<double> t) {
+          [](BiasAugmentedEkf& f, const VecX& mean, const MatX& cov,
+             const std::optional<bind::StrictArg<double>>& t_in) {
+            const std::optional<double> t = bind::optional_get(t_in, "t");
             nlosloc::detail::ensure_shape(mean, f.state_dim(), 1, "mean");
             nlosloc::detail::ensure_shape(cov, f.state_dim(), f.state_dim(), "cov");
             f.set_augmented_belief(Gaussian<Eigen::Dynamic>(mean, cov), t.value_or(f.time()));

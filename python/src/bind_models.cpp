@@ -10,6 +10,7 @@
 #include "motion_arg.hpp"
 #include "nlosloc/models/measurement.hpp"
 #include "nlosloc/models/motion.hpp"
+#include "params_field.hpp"
 
 namespace py = pybind11;
 
@@ -58,14 +59,21 @@ void bind_cvc(py::module_& m, const char* name) {
 void define_module(py::module_& m) {
   py::class_<StateLayout>(m, "StateLayout", "Indices of the state pieces (-1 = absent).")
       .def(py::init<>())
-      .def_readwrite("dim", &StateLayout::dim)
-      .def_readwrite("space_dim", &StateLayout::space_dim)
-      .def_readwrite("position", &StateLayout::position)
-      .def_readwrite("velocity", &StateLayout::velocity)
-      .def_readwrite("clock_bias", &StateLayout::clock_bias)
-      .def_readwrite("clock_drift", &StateLayout::clock_drift)
-      .def_readwrite("skew", &StateLayout::skew)
-      .def_readwrite("offset", &StateLayout::offset);
+      .def_property("dim", bind::field_get<&StateLayout::dim>(), bind::field_set<&StateLayout::dim>("dim"))
+      .def_property("space_dim", bind::field_get<&StateLayout::space_dim>(),
+                    bind::field_set<&StateLayout::space_dim>("space_dim"))
+      .def_property("position", bind::field_get<&StateLayout::position>(),
+                    bind::field_set<&StateLayout::position>("position"))
+      .def_property("velocity", bind::field_get<&StateLayout::velocity>(),
+                    bind::field_set<&StateLayout::velocity>("velocity"))
+      .def_property("clock_bias", bind::field_get<&StateLayout::clock_bias>(),
+                    bind::field_set<&StateLayout::clock_bias>("clock_bias"))
+      .def_property("clock_drift", bind::field_get<&StateLayout::clock_drift>(),
+                    bind::field_set<&StateLayout::clock_drift>("clock_drift"))
+      .def_property("skew", bind::field_get<&StateLayout::skew>(),
+                    bind::field_set<&StateLayout::skew>("skew"))
+      .def_property("offset", bind::field_get<&StateLayout::offset>(),
+                    bind::field_set<&StateLayout::offset>("offset"));
 
   py::enum_<VelocityNoise>(m, "VelocityNoise", "Process-noise form of the constant-velocity model.")
       .value("RandomWalk", VelocityNoise::kRandomWalk, "Huerta eqs. (6)-(7)")
@@ -161,7 +169,8 @@ void define_module(py::module_& m) {
           py::arg("i"), "h of linear row i (y = h^T x + n), a copy.")
       .def(
           "predict",
-          [](const MeasurementStack& s, const VecX& x, double t) {
+          [](const MeasurementStack& s, const VecX& x, const bind::StrictArg<double>& t_in) {
+            const double t = t_in.get("t");
             detail::ensure_shape(x, s.layout().dim, 1, "x");
             VecX y(s.rows());
             s.predict(x, t, y);
@@ -170,7 +179,8 @@ void define_module(py::module_& m) {
           py::arg("x"), py::arg("t") = 0.0, "Noise-free prediction g(x), shape (rows,).")
       .def(
           "predict_columns",
-          [](const MeasurementStack& s, const MatX& X, double t) {
+          [](const MeasurementStack& s, const MatX& X, const bind::StrictArg<double>& t_in) {
+            const double t = t_in.get("t");
             detail::ensure_shape(X, s.layout().dim, -1, "X");
             MatX Z(s.rows(), X.cols());
             s.predict_columns(X, t, Z);
@@ -181,7 +191,8 @@ void define_module(py::module_& m) {
           "path, row by row).")
       .def(
           "jacobian",
-          [](const MeasurementStack& s, const VecX& x, double t) {
+          [](const MeasurementStack& s, const VecX& x, const bind::StrictArg<double>& t_in) {
+            const double t = t_in.get("t");
             detail::ensure_shape(x, s.layout().dim, 1, "x");
             MatX J(s.rows(), x.size());
             s.jacobian(x, t, J);
@@ -202,7 +213,9 @@ void define_module(py::module_& m) {
           py::arg("x"), py::arg("sight"), "(mean, cov) of the noise under `sight` at x.")
       .def(
           "predict_augmented",
-          [](const MeasurementStack& s, const VecX& x, double t, const VecX& u, const py::object& sight_obj) {
+          [](const MeasurementStack& s, const VecX& x, const bind::StrictArg<double>& t_in, const VecX& u,
+             const py::object& sight_obj) {
+            const double t = t_in.get("t");
             detail::ensure_shape(x, s.layout().dim, 1, "x");
             detail::ensure_shape(u, s.noise_dim(), 1, "u");
             const VecXi sight = bind::to_sight(sight_obj);

@@ -28,6 +28,7 @@
 #include "nlosloc/rbpf/pf.hpp"
 #include "nlosloc/rbpf/rbpf.hpp"
 #include "nlosloc/sim/h1.hpp"
+#include "params_field.hpp"
 
 namespace py = pybind11;
 
@@ -163,7 +164,8 @@ void particle_filter_methods(C& c) {
           "The situation.QualityModel it was built with (a copy).")
       .def(
           "reset",
-          [](A& a, const VecX& mean, const MatX& cov, double t0) {
+          [](A& a, const VecX& mean, const MatX& cov, const bind::StrictArg<double>& t0_in) {
+            const double t0 = t0_in.get("t0");
             a.visit([&](auto& f) {
               constexpr int N = std::decay_t<decltype(f)>::N;
               f.reset(to_gaussian<N>(mean, cov), t0);
@@ -230,30 +232,46 @@ void define_module(py::module_& m) {
 
   py::class_<RbpfOptions>(m, "RbpfOptions", "Settings of Rbpf.")
       .def(py::init<>())
-      .def(py::init([](RbpfVariant variant, int num_particles, const bind::UInt64Arg& max_offspring,
-                       bool merge, double merge_threshold, int threads, const SigmaScheme& scheme,
-                       NoiseForm noise_form) {
-             return RbpfOptions{variant, num_particles,   max_offspring.get("max_offspring"),
-                                merge,   merge_threshold, threads,
-                                scheme,  noise_form};
+      .def(py::init([](const bind::StrictArg<RbpfVariant>& variant, const bind::StrictArg<int>& num_particles,
+                       const bind::UInt64Arg& max_offspring, const bind::StrictArg<bool>& merge,
+                       const bind::StrictArg<double>& merge_threshold, const bind::StrictArg<int>& threads,
+                       const bind::StrictArg<SigmaScheme>& scheme,
+                       const bind::StrictArg<NoiseForm>& noise_form) {
+             return RbpfOptions{variant.get("variant"),
+                                num_particles.get("num_particles"),
+                                max_offspring.get("max_offspring"),
+                                merge.get("merge"),
+                                merge_threshold.get("merge_threshold"),
+                                threads.get("threads"),
+                                scheme.get("scheme"),
+                                noise_form.get("noise_form")};
            }),
            py::arg("variant") = RbpfVariant::kReordered, py::arg("num_particles") = 16,
            py::arg("max_offspring") = 4096, py::arg("merge") = true, py::arg("merge_threshold") = -1.0,
            py::arg("threads") = 1, py::arg_v("scheme", SigmaScheme::scaled(), "SigmaScheme.scaled()"),
            py::arg("noise_form") = NoiseForm::kAdditive)
-      .def_readwrite("variant", &RbpfOptions::variant)
-      .def_readwrite("num_particles", &RbpfOptions::num_particles, "M, particles propagated (>= 1).")
+      .def_property("variant", bind::field_get<&RbpfOptions::variant>(),
+                    bind::field_set<&RbpfOptions::variant>("variant"))
+      .def_property("num_particles", bind::field_get<&RbpfOptions::num_particles>(),
+                    bind::field_set<&RbpfOptions::num_particles>("num_particles"),
+                    "M, particles propagated (>= 1).")
       .def_property(
           "max_offspring", [](const RbpfOptions& o) { return o.max_offspring; },
           [](RbpfOptions& o, const bind::UInt64Arg& v) { o.max_offspring = v.get("max_offspring"); },
           "Children per particle; above N_z^B the best ones by prior x quality (bounded).")
-      .def_readwrite("merge", &RbpfOptions::merge)
-      .def_readwrite("merge_threshold", &RbpfOptions::merge_threshold, "d_min; negative: eq. (31).")
-      .def_readwrite("threads", &RbpfOptions::threads)
-      .def_readwrite("scheme", &RbpfOptions::scheme)
-      .def_readwrite("noise_form", &RbpfOptions::noise_form,
-                     "UKF noise: Additive moments (default, one sigma set per parent) or Augmented "
-                     "(Table III's noise sigma set, one sigma set per child).");
+      .def_property("merge", bind::field_get<&RbpfOptions::merge>(),
+                    bind::field_set<&RbpfOptions::merge>("merge"))
+      .def_property("merge_threshold", bind::field_get<&RbpfOptions::merge_threshold>(),
+                    bind::field_set<&RbpfOptions::merge_threshold>("merge_threshold"),
+                    "d_min; negative: eq. (31).")
+      .def_property("threads", bind::field_get<&RbpfOptions::threads>(),
+                    bind::field_set<&RbpfOptions::threads>("threads"))
+      .def_property("scheme", bind::field_get<&RbpfOptions::scheme>(),
+                    bind::field_set<&RbpfOptions::scheme>("scheme"))
+      .def_property("noise_form", bind::field_get<&RbpfOptions::noise_form>(),
+                    bind::field_set<&RbpfOptions::noise_form>("noise_form"),
+                    "UKF noise: Additive moments (default, one sigma set per parent) or Augmented "
+                    "(Table III's noise sigma set, one sigma set per child).");
 
   py::class_<RbpfSnapshot>(m, "RbpfSnapshot",
                            "What an Rbpf carries from one step to the next (Rbpf.save / Rbpf.restore): a "
@@ -291,19 +309,31 @@ void define_module(py::module_& m) {
 
   py::class_<PfOptions>(m, "PfOptions", "Settings of ParticleFilter.")
       .def(py::init<>())
-      .def(py::init([](int num_particles, PfResampling resampling, double ess_threshold,
-                       double merge_threshold, int threads, const bind::UInt64Arg& seed) {
-             return PfOptions{num_particles,   resampling, ess_threshold,
-                              merge_threshold, threads,    seed.get("seed")};
-           }),
-           py::arg("num_particles") = 10000, py::arg("resampling") = PfResampling::kSystematic,
-           py::arg("ess_threshold") = 0.5, py::arg("merge_threshold") = -1.0, py::arg("threads") = 1,
-           py::arg("seed") = 0)
-      .def_readwrite("num_particles", &PfOptions::num_particles)
-      .def_readwrite("resampling", &PfOptions::resampling)
-      .def_readwrite("ess_threshold", &PfOptions::ess_threshold)
-      .def_readwrite("merge_threshold", &PfOptions::merge_threshold)
-      .def_readwrite("threads", &PfOptions::threads)
+      .def(
+          py::init(
+              [](const bind::StrictArg<int>& num_particles, const bind::StrictArg<PfResampling>& resampling,
+                 const bind::StrictArg<double>& ess_threshold, const bind::StrictArg<double>& merge_threshold,
+                 const bind::StrictArg<int>& threads, const bind::UInt64Arg& seed) {
+                return PfOptions{num_particles.get("num_particles"),
+                                 resampling.get("resampling"),
+                                 ess_threshold.get("ess_threshold"),
+                                 merge_threshold.get("merge_threshold"),
+                                 threads.get("threads"),
+                                 seed.get("seed")};
+              }),
+          py::arg("num_particles") = 10000, py::arg("resampling") = PfResampling::kSystematic,
+          py::arg("ess_threshold") = 0.5, py::arg("merge_threshold") = -1.0, py::arg("threads") = 1,
+          py::arg("seed") = 0)
+      .def_property("num_particles", bind::field_get<&PfOptions::num_particles>(),
+                    bind::field_set<&PfOptions::num_particles>("num_particles"))
+      .def_property("resampling", bind::field_get<&PfOptions::resampling>(),
+                    bind::field_set<&PfOptions::resampling>("resampling"))
+      .def_property("ess_threshold", bind::field_get<&PfOptions::ess_threshold>(),
+                    bind::field_set<&PfOptions::ess_threshold>("ess_threshold"))
+      .def_property("merge_threshold", bind::field_get<&PfOptions::merge_threshold>(),
+                    bind::field_set<&PfOptions::merge_threshold>("merge_threshold"))
+      .def_property("threads", bind::field_get<&PfOptions::threads>(),
+                    bind::field_set<&PfOptions::threads>("threads"))
       .def_property(
           "seed", [](const PfOptions& o) { return o.seed; },
           [](PfOptions& o, const bind::UInt64Arg& v) { o.seed = v.get("seed"); });
@@ -352,7 +382,9 @@ void define_module(py::module_& m) {
                     "Rao-Blackwellized particle filter with UKF bank and merge/select (Huerta Sec. V-A/B).");
     c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
                       const situation::SightProcess& sight, const situation::QualityModel& quality,
-                      const VecX& mean, const MatX& cov, const RbpfOptions& options, double t0) {
+                      const VecX& mean, const MatX& cov, const RbpfOptions& options,
+                      const bind::StrictArg<double>& t0_in) {
+            const double t0 = t0_in.get("t0");
             return A(motion, [&](const auto& mo) {
               using Mo = std::decay_t<decltype(mo)>;
               return std::make_unique<Rbpf<Mo>>(mo, meas, sight, quality, to_gaussian<Mo::kDim>(mean, cov),
@@ -428,7 +460,9 @@ void define_module(py::module_& m) {
                     "Joint bootstrap particle filter over (x, s) (Huerta Sec. VI-B, PF).");
     c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
                       const situation::SightProcess& sight, const situation::QualityModel& quality,
-                      const VecX& mean, const MatX& cov, const PfOptions& options, double t0) {
+                      const VecX& mean, const MatX& cov, const PfOptions& options,
+                      const bind::StrictArg<double>& t0_in) {
+            const double t0 = t0_in.get("t0");
             return A(motion, [&](const auto& mo) {
               using Mo = std::decay_t<decltype(mo)>;
               return std::make_unique<ParticleFilter<Mo>>(mo, meas, sight, quality,
@@ -474,7 +508,9 @@ void define_module(py::module_& m) {
         "on the quality statistics, one noise set per condition weighted by its probabilities.");
     c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
                       const situation::SightProcess& sight, const situation::QualityModel& quality,
-                      const VecX& mean, const MatX& cov, const SigmaScheme& scheme, double t0) {
+                      const VecX& mean, const MatX& cov, const SigmaScheme& scheme,
+                      const bind::StrictArg<double>& t0_in) {
+            const double t0 = t0_in.get("t0");
             return A(motion, [&](const auto& mo) {
               using Mo = std::decay_t<decltype(mo)>;
               return std::make_unique<IukfBox<Mo>>(mo, meas, to_gaussian<Mo::kDim>(mean, cov),

@@ -153,10 +153,18 @@ py::dict run_monte_carlo(const std::shared_ptr<sim::Scenario>& s, const std::str
 /// The quality-statistic fields that H1Params and H2Params share (choice: Beta per condition).
 template <class P, class C>
 void quality_fields(C& c) {
-  c.def_readwrite("quality_los_a", &P::quality_los_a, "Choice: o | LOS ~ Beta(a, b), a > 0.")
-      .def_readwrite("quality_los_b", &P::quality_los_b, "Choice: o | LOS ~ Beta(a, b), b > 0.")
-      .def_readwrite("quality_nlos_a", &P::quality_nlos_a, "Choice: o | NLOS ~ Beta(a, b), a > 0.")
-      .def_readwrite("quality_nlos_b", &P::quality_nlos_b, "Choice: o | NLOS ~ Beta(a, b), b > 0.");
+  c.def_property("quality_los_a", nlosloc::bind::field_get<&P::quality_los_a>(),
+                 nlosloc::bind::field_set<&P::quality_los_a>("quality_los_a"),
+                 "Choice: o | LOS ~ Beta(a, b), a > 0.")
+      .def_property("quality_los_b", nlosloc::bind::field_get<&P::quality_los_b>(),
+                    nlosloc::bind::field_set<&P::quality_los_b>("quality_los_b"),
+                    "Choice: o | LOS ~ Beta(a, b), b > 0.")
+      .def_property("quality_nlos_a", nlosloc::bind::field_get<&P::quality_nlos_a>(),
+                    nlosloc::bind::field_set<&P::quality_nlos_a>("quality_nlos_a"),
+                    "Choice: o | NLOS ~ Beta(a, b), a > 0.")
+      .def_property("quality_nlos_b", nlosloc::bind::field_get<&P::quality_nlos_b>(),
+                    nlosloc::bind::field_set<&P::quality_nlos_b>("quality_nlos_b"),
+                    "Choice: o | NLOS ~ Beta(a, b), b > 0.");
 }
 
 /// Scenario, H1Params, H1, H2Params, H2.
@@ -194,21 +202,41 @@ void bind_scenarios(py::module_& m) {
                            "Parameters of H1 (Huerta et al. 2009 Sec. VI-A, Tables VII-VIII, plus choices). "
                            "Checked when an H1 is built from them (ValueError naming the field).");
   h1p.def(py::init<>())
-      .def_readwrite("dt", &H1Params::dt, "Table VII: Delta t (s), > 0.")
-      .def_readwrite("steps", &H1Params::steps, "Table VII: number of steps (200 s), > discard.")
-      .def_readwrite("speed", &H1Params::speed, "Table VII: mobile speed (m/s), > 0.")
-      .def_readwrite("mean_los", &H1Params::mean_los, "Table VII: E{L_LOS} (m), > 0.")
-      .def_readwrite("mean_nlos", &H1Params::mean_nlos, "Table VII: E{L_NLOS} (m), > 0.")
-      .def_readwrite("sigma_v2", &H1Params::sigma_v2, "Table VII: filters' sigma_v^2 ((m/s)^2 per s), >= 0.")
-      .def_readwrite("toa_los_var", &H1Params::toa_los_var, "Table VIII: TOA LOS Normal variance (m^2), > 0.")
-      .def_readwrite("toa_nlos_var", &H1Params::toa_nlos_var,
-                     "Table VIII: TOA NLOS Rayleigh variance (m^2), > 0.")
-      .def_readwrite("aoa_los_var", &H1Params::aoa_los_var,
-                     "Table VIII: AOA LOS Normal variance (rad^2), > 0.")
-      .def_readwrite("aoa_nlos_var", &H1Params::aoa_nlos_var,
-                     "Table VIII: AOA NLOS Normal variance (rad^2), > 0.")
-      .def_readwrite("discard", &H1Params::discard, "Choice: first samples left out, 0 <= discard < steps.")
-      .def_readwrite("rbpf_particles", &H1Params::rbpf_particles, "Sec. VI-A: particles of rRBPF-8, >= 1.");
+      .def_property("dt", nlosloc::bind::field_get<&H1Params::dt>(),
+                    nlosloc::bind::field_set<&H1Params::dt>("dt"), "Table VII: Delta t (s), > 0.")
+      .def_property("steps", nlosloc::bind::field_get<&H1Params::steps>(),
+                    nlosloc::bind::field_set<&H1Params::steps>("steps"),
+                    "Table VII: number of steps (200 s), > discard.")
+      .def_property("speed", nlosloc::bind::field_get<&H1Params::speed>(),
+                    nlosloc::bind::field_set<&H1Params::speed>("speed"),
+                    "Table VII: mobile speed (m/s), > 0.")
+      .def_property("mean_los", nlosloc::bind::field_get<&H1Params::mean_los>(),
+                    nlosloc::bind::field_set<&H1Params::mean_los>("mean_los"),
+                    "Table VII: E{L_LOS} (m), > 0.")
+      .def_property("mean_nlos", nlosloc::bind::field_get<&H1Params::mean_nlos>(),
+                    nlosloc::bind::field_set<&H1Params::mean_nlos>("mean_nlos"),
+                    "Table VII: E{L_NLOS} (m), > 0.")
+      .def_property("sigma_v2", nlosloc::bind::field_get<&H1Params::sigma_v2>(),
+                    nlosloc::bind::field_set<&H1Params::sigma_v2>("sigma_v2"),
+                    "Table VII: filters' sigma_v^2 ((m/s)^2 per s), >= 0.")
+      .def_property("toa_los_var", nlosloc::bind::field_get<&H1Params::toa_los_var>(),
+                    nlosloc::bind::field_set<&H1Params::toa_los_var>("toa_los_var"),
+                    "Table VIII: TOA LOS Normal variance (m^2), > 0.")
+      .def_property("toa_nlos_var", nlosloc::bind::field_get<&H1Params::toa_nlos_var>(),
+                    nlosloc::bind::field_set<&H1Params::toa_nlos_var>("toa_nlos_var"),
+                    "Table VIII: TOA NLOS Rayleigh variance (m^2), > 0.")
+      .def_property("aoa_los_var", nlosloc::bind::field_get<&H1Params::aoa_los_var>(),
+                    nlosloc::bind::field_set<&H1Params::aoa_los_var>("aoa_los_var"),
+                    "Table VIII: AOA LOS Normal variance (rad^2), > 0.")
+      .def_property("aoa_nlos_var", nlosloc::bind::field_get<&H1Params::aoa_nlos_var>(),
+                    nlosloc::bind::field_set<&H1Params::aoa_nlos_var>("aoa_nlos_var"),
+                    "Table VIII: AOA NLOS Normal variance (rad^2), > 0.")
+      .def_property("discard", nlosloc::bind::field_get<&H1Params::discard>(),
+                    nlosloc::bind::field_set<&H1Params::discard>("discard"),
+                    "Choice: first samples left out, 0 <= discard < steps.")
+      .def_property("rbpf_particles", nlosloc::bind::field_get<&H1Params::rbpf_particles>(),
+                    nlosloc::bind::field_set<&H1Params::rbpf_particles>("rbpf_particles"),
+                    "Sec. VI-A: particles of rRBPF-8, >= 1.");
   quality_fields<H1Params>(h1p);
   nlosloc::bind::fixed_field<&H1Params::start>(h1p, "start", "H1Params.start", "Choice: start (m), (2,).");
   nlosloc::bind::fixed_field<&H1Params::heading>(h1p, "heading", "H1Params.heading",
@@ -240,23 +268,52 @@ void bind_scenarios(py::module_& m) {
       "Parameters of H2 (Huerta et al. 2009 Sec. VI-B, Tables IX-X, plus choices). Checked "
       "when an H2 is built from them (ValueError naming the field).");
   h2p.def(py::init<>())
-      .def_readwrite("side", &H2Params::side, "Sec. VI-B: hexagon side = circumradius (m), > 0.")
-      .def_readwrite("dt", &H2Params::dt, "Table IX: Delta t (s), > 0.")
-      .def_readwrite("steps", &H2Params::steps, "Table IX: number of steps (60 s), > discard.")
-      .def_readwrite("sigma_v2", &H2Params::sigma_v2, "Table IX: velocity random walk sigma_v^2, >= 0.")
-      .def_readwrite("sigma_tau2", &H2Params::sigma_tau2, "Table IX: drift random walk sigma_tau^2, >= 0.")
-      .def_readwrite("tau0_var", &H2Params::tau0_var, "Table IX: E{tau_0^2} (lm^2), > 0.")
-      .def_readwrite("tau_dot0_var", &H2Params::tau_dot0_var, "Table IX: E{tau_dot_0^2} ((lm/s)^2), > 0.")
-      .def_readwrite("mean_los", &H2Params::mean_los, "Table IX: E{L_LOS} (m), > 0.")
-      .def_readwrite("mean_nlos", &H2Params::mean_nlos, "Table IX: E{L_NLOS} (m), > 0.")
-      .def_readwrite("rtoa_los_var", &H2Params::rtoa_los_var, "Table X: RTOA LOS Normal variance, > 0.")
-      .def_readwrite("rtoa_nlos_var", &H2Params::rtoa_nlos_var, "Table X: RTOA NLOS Rayleigh variance, > 0.")
-      .def_readwrite("position0_std", &H2Params::position0_std, "Choice: std of the start (m), > 0.")
-      .def_readwrite("velocity0_std", &H2Params::velocity0_std, "Choice: std of the initial velocity, > 0.")
-      .def_readwrite("discard", &H2Params::discard, "Choice: first samples left out, 0 <= discard < steps.")
-      .def_readwrite("urr_speed", &H2Params::urr_speed,
-                     "Choice: transversal speed (m/s) of URR's switch probabilities, > 0.")
-      .def_readwrite("pf_particles", &H2Params::pf_particles, "Sec. VI-B: particles of PF, >= 1.");
+      .def_property("side", nlosloc::bind::field_get<&H2Params::side>(),
+                    nlosloc::bind::field_set<&H2Params::side>("side"),
+                    "Sec. VI-B: hexagon side = circumradius (m), > 0.")
+      .def_property("dt", nlosloc::bind::field_get<&H2Params::dt>(),
+                    nlosloc::bind::field_set<&H2Params::dt>("dt"), "Table IX: Delta t (s), > 0.")
+      .def_property("steps", nlosloc::bind::field_get<&H2Params::steps>(),
+                    nlosloc::bind::field_set<&H2Params::steps>("steps"),
+                    "Table IX: number of steps (60 s), > discard.")
+      .def_property("sigma_v2", nlosloc::bind::field_get<&H2Params::sigma_v2>(),
+                    nlosloc::bind::field_set<&H2Params::sigma_v2>("sigma_v2"),
+                    "Table IX: velocity random walk sigma_v^2, >= 0.")
+      .def_property("sigma_tau2", nlosloc::bind::field_get<&H2Params::sigma_tau2>(),
+                    nlosloc::bind::field_set<&H2Params::sigma_tau2>("sigma_tau2"),
+                    "Table IX: drift random walk sigma_tau^2, >= 0.")
+      .def_property("tau0_var", nlosloc::bind::field_get<&H2Params::tau0_var>(),
+                    nlosloc::bind::field_set<&H2Params::tau0_var>("tau0_var"),
+                    "Table IX: E{tau_0^2} (lm^2), > 0.")
+      .def_property("tau_dot0_var", nlosloc::bind::field_get<&H2Params::tau_dot0_var>(),
+                    nlosloc::bind::field_set<&H2Params::tau_dot0_var>("tau_dot0_var"),
+                    "Table IX: E{tau_dot_0^2} ((lm/s)^2), > 0.")
+      .def_property("mean_los", nlosloc::bind::field_get<&H2Params::mean_los>(),
+                    nlosloc::bind::field_set<&H2Params::mean_los>("mean_los"), "Table IX: E{L_LOS} (m), > 0.")
+      .def_property("mean_nlos", nlosloc::bind::field_get<&H2Params::mean_nlos>(),
+                    nlosloc::bind::field_set<&H2Params::mean_nlos>("mean_nlos"),
+                    "Table IX: E{L_NLOS} (m), > 0.")
+      .def_property("rtoa_los_var", nlosloc::bind::field_get<&H2Params::rtoa_los_var>(),
+                    nlosloc::bind::field_set<&H2Params::rtoa_los_var>("rtoa_los_var"),
+                    "Table X: RTOA LOS Normal variance, > 0.")
+      .def_property("rtoa_nlos_var", nlosloc::bind::field_get<&H2Params::rtoa_nlos_var>(),
+                    nlosloc::bind::field_set<&H2Params::rtoa_nlos_var>("rtoa_nlos_var"),
+                    "Table X: RTOA NLOS Rayleigh variance, > 0.")
+      .def_property("position0_std", nlosloc::bind::field_get<&H2Params::position0_std>(),
+                    nlosloc::bind::field_set<&H2Params::position0_std>("position0_std"),
+                    "Choice: std of the start (m), > 0.")
+      .def_property("velocity0_std", nlosloc::bind::field_get<&H2Params::velocity0_std>(),
+                    nlosloc::bind::field_set<&H2Params::velocity0_std>("velocity0_std"),
+                    "Choice: std of the initial velocity, > 0.")
+      .def_property("discard", nlosloc::bind::field_get<&H2Params::discard>(),
+                    nlosloc::bind::field_set<&H2Params::discard>("discard"),
+                    "Choice: first samples left out, 0 <= discard < steps.")
+      .def_property("urr_speed", nlosloc::bind::field_get<&H2Params::urr_speed>(),
+                    nlosloc::bind::field_set<&H2Params::urr_speed>("urr_speed"),
+                    "Choice: transversal speed (m/s) of URR's switch probabilities, > 0.")
+      .def_property("pf_particles", nlosloc::bind::field_get<&H2Params::pf_particles>(),
+                    nlosloc::bind::field_set<&H2Params::pf_particles>("pf_particles"),
+                    "Sec. VI-B: particles of PF, >= 1.");
   quality_fields<H2Params>(h2p);
 
   py::class_<sim::H2, sim::Scenario, std::shared_ptr<sim::H2>>(

@@ -45,18 +45,28 @@ int checked_anchor(int b, int n) {
 template <class P, class C>
 void ke_wu_common_fields(C& c, const char* params) {
   const std::string q = params;
-  c.def_readwrite("accel_var", &P::accel_var, "Sec. 6: sigma_x^2 = sigma_y^2 of eq. (16) ((m/s^2)^2), >= 0.")
-      .def_readwrite("steps", &P::steps, "Sec. 6: L, samples per run, > discard.")
-      .def_readwrite("dt", &P::dt, "Sec. 6: Delta t (s), > 0.")
-      .def_readwrite("discard", &P::discard,
-                     "First samples left out of the statistics, 0 <= discard < steps.")
-      .def_readwrite("gamma", &P::gamma, "Sec. 5: scaling factor of the NLOS test, eq. (32), finite >= 1.")
-      .def_readwrite("iterated_bias_prior_std", &P::iterated_bias_prior_std,
-                     "Choice: iterated NLOS EKF, prior std of each bias (m), > 0.")
-      .def_readwrite("iterated_bias_walk_std", &P::iterated_bias_walk_std,
-                     "Choice: iterated NLOS EKF, bias random walk (m/step), >= 0.")
-      .def_readwrite("iterated_iterations", &P::iterated_iterations,
-                     "Choice: iterated NLOS EKF, iterations of the update, >= 1.");
+  c.def_property("accel_var", nlosloc::bind::field_get<&P::accel_var>(),
+                 nlosloc::bind::field_set<&P::accel_var>("accel_var"),
+                 "Sec. 6: sigma_x^2 = sigma_y^2 of eq. (16) ((m/s^2)^2), >= 0.")
+      .def_property("steps", nlosloc::bind::field_get<&P::steps>(),
+                    nlosloc::bind::field_set<&P::steps>("steps"), "Sec. 6: L, samples per run, > discard.")
+      .def_property("dt", nlosloc::bind::field_get<&P::dt>(), nlosloc::bind::field_set<&P::dt>("dt"),
+                    "Sec. 6: Delta t (s), > 0.")
+      .def_property("discard", nlosloc::bind::field_get<&P::discard>(),
+                    nlosloc::bind::field_set<&P::discard>("discard"),
+                    "First samples left out of the statistics, 0 <= discard < steps.")
+      .def_property("gamma", nlosloc::bind::field_get<&P::gamma>(),
+                    nlosloc::bind::field_set<&P::gamma>("gamma"),
+                    "Sec. 5: scaling factor of the NLOS test, eq. (32), finite >= 1.")
+      .def_property("iterated_bias_prior_std", nlosloc::bind::field_get<&P::iterated_bias_prior_std>(),
+                    nlosloc::bind::field_set<&P::iterated_bias_prior_std>("iterated_bias_prior_std"),
+                    "Choice: iterated NLOS EKF, prior std of each bias (m), > 0.")
+      .def_property("iterated_bias_walk_std", nlosloc::bind::field_get<&P::iterated_bias_walk_std>(),
+                    nlosloc::bind::field_set<&P::iterated_bias_walk_std>("iterated_bias_walk_std"),
+                    "Choice: iterated NLOS EKF, bias random walk (m/step), >= 0.")
+      .def_property("iterated_iterations", nlosloc::bind::field_get<&P::iterated_iterations>(),
+                    nlosloc::bind::field_set<&P::iterated_iterations>("iterated_iterations"),
+                    "Choice: iterated NLOS EKF, iterations of the update, >= 1.");
   nlosloc::bind::fixed_field<&P::start>(c, "start", q + ".start", "Start position (m), (2,).");
   nlosloc::bind::fixed_field<&P::velocity>(c, "velocity", q + ".velocity", "Initial velocity (m/s), (2,).");
   nlosloc::bind::fixed_field<&P::initial_std>(c, "initial_std", q + ".initial_std",
@@ -70,11 +80,18 @@ void bind_k_scenarios(py::module_& m) {
       "Parameters of K1 (Ke & Wu 2011 Secs. 6 and 6.1, plus choices). Checked when a K1 "
       "(or a K2 through K2Params.base) is built from them (ValueError naming the field).");
   k1p.def(py::init<>())
-      .def_readwrite("sigma_los", &K1Params::sigma_los, "Sec. 6: TOA noise n_i ~ N(0, sigma_los^2) (m), > 0.")
-      .def_readwrite("nlos_mean", &K1Params::nlos_mean, "Sec. 6.1: NLOS error b_i ~ N(mean, std^2) (m), > 0.")
-      .def_readwrite("nlos_std", &K1Params::nlos_std, "Sec. 6.1: NLOS error std (m), > 0.")
-      .def_readwrite("nlos_nonnegative", &K1Params::nlos_nonnegative,
-                     "Choice: b_i = max(0, draw) (Sec. 2, eq. 1: b_i(k) >= 0); False keeps the normal draw.");
+      .def_property("sigma_los", nlosloc::bind::field_get<&K1Params::sigma_los>(),
+                    nlosloc::bind::field_set<&K1Params::sigma_los>("sigma_los"),
+                    "Sec. 6: TOA noise n_i ~ N(0, sigma_los^2) (m), > 0.")
+      .def_property("nlos_mean", nlosloc::bind::field_get<&K1Params::nlos_mean>(),
+                    nlosloc::bind::field_set<&K1Params::nlos_mean>("nlos_mean"),
+                    "Sec. 6.1: NLOS error b_i ~ N(mean, std^2) (m), > 0.")
+      .def_property("nlos_std", nlosloc::bind::field_get<&K1Params::nlos_std>(),
+                    nlosloc::bind::field_set<&K1Params::nlos_std>("nlos_std"),
+                    "Sec. 6.1: NLOS error std (m), > 0.")
+      .def_property("nlos_nonnegative", nlosloc::bind::field_get<&K1Params::nlos_nonnegative>(),
+                    nlosloc::bind::field_set<&K1Params::nlos_nonnegative>("nlos_nonnegative"),
+                    "Choice: b_i = max(0, draw) (Sec. 2, eq. 1: b_i(k) >= 0); False keeps the normal draw.");
   nlosloc::bind::fixed_field<&K1Params::anchors>(k1p, "anchors", "K1Params.anchors",
                                                  "Sec. 6: the three fixed nodes (m), (3, 2).");
   ke_wu_common_fields<K1Params>(k1p, "K1Params");
@@ -104,11 +121,15 @@ void bind_k_scenarios(py::module_& m) {
                        "Parameters of K2 (Ke & Wu 2011 Sec. 6.2): K1's in `base` plus the switching period. "
                        "Checked when a K2 is built from them (ValueError naming the field).")
       .def(py::init<>())
-      .def_readwrite(
-          "base", &K2Params::base,
-          "K1Params: geometry, noise, motion, L, dt, discard, estimator choices (edited in place).")
-      .def_readwrite("period", &K2Params::period, "Sec. 6.2: samples between LOS/NLOS switches, >= 1.")
-      .def_readwrite("start_nlos", &K2Params::start_nlos, "Choice: the first block is NLOS.");
+      .def_property("base", nlosloc::bind::field_get<&K2Params::base>(),
+                    nlosloc::bind::field_set<&K2Params::base>("base"),
+                    "K1Params: geometry, noise, motion, L, dt, discard, estimator choices (edited in place).")
+      .def_property("period", nlosloc::bind::field_get<&K2Params::period>(),
+                    nlosloc::bind::field_set<&K2Params::period>("period"),
+                    "Sec. 6.2: samples between LOS/NLOS switches, >= 1.")
+      .def_property("start_nlos", nlosloc::bind::field_get<&K2Params::start_nlos>(),
+                    nlosloc::bind::field_set<&K2Params::start_nlos>("start_nlos"),
+                    "Choice: the first block is NLOS.");
 
   py::class_<sim::K2, sim::Scenario, std::shared_ptr<sim::K2>>(
       m, "K2",
@@ -133,12 +154,16 @@ void bind_k_scenarios(py::module_& m) {
       "Parameters of K3 (Ke & Wu 2011 Sec. 6.4, plus choices). Checked when a K3 is built "
       "from them (ValueError naming the field).");
   k3p.def(py::init<>())
-      .def_readwrite("sigma_rel", &K3Params::sigma_rel, "Sec. 6.4: sigma_i = sigma_rel d_i, > 0.")
-      .def_readwrite("nlos_rel", &K3Params::nlos_rel,
-                     "Sec. 6.4: NLOS error exponential with mean nlos_rel d_i, > 0.")
-      .def_readwrite("threshold", &K3Params::threshold,
-                     "Sec. 6.4: error threshold (m) of P(error <= t), > 0: the bench's line, and "
-                     "format_k3_probability(result, threshold).");
+      .def_property("sigma_rel", nlosloc::bind::field_get<&K3Params::sigma_rel>(),
+                    nlosloc::bind::field_set<&K3Params::sigma_rel>("sigma_rel"),
+                    "Sec. 6.4: sigma_i = sigma_rel d_i, > 0.")
+      .def_property("nlos_rel", nlosloc::bind::field_get<&K3Params::nlos_rel>(),
+                    nlosloc::bind::field_set<&K3Params::nlos_rel>("nlos_rel"),
+                    "Sec. 6.4: NLOS error exponential with mean nlos_rel d_i, > 0.")
+      .def_property("threshold", nlosloc::bind::field_get<&K3Params::threshold>(),
+                    nlosloc::bind::field_set<&K3Params::threshold>("threshold"),
+                    "Sec. 6.4: error threshold (m) of P(error <= t), > 0: the bench's line, and "
+                    "format_k3_probability(result, threshold).");
   nlosloc::bind::fixed_field<&K3Params::good>(k3p, "good", "K3Params.good",
                                               "Sec. 6.4: good geometry, four nodes (m), (4, 2).");
   nlosloc::bind::fixed_field<&K3Params::bad>(k3p, "bad", "K3Params.bad",

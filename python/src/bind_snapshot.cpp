@@ -13,6 +13,7 @@
 #include "native_makers.hpp"
 #include "nlosloc/snapshot/estimator.hpp"
 #include "nlosloc/snapshot/snapshot.hpp"
+#include "params_field.hpp"
 
 namespace py = pybind11;
 
@@ -37,13 +38,16 @@ std::vector<char> flags_or_all(const std::optional<std::vector<bool>>& use, int 
   return use ? flags_in(*use) : std::vector<char>(static_cast<std::size_t>(m), 1);
 }
 
-/// A RowNoise setter that keeps the model valid (RowNoise::check names the field).
+/// A RowNoise setter that keeps the model valid (RowNoise::check names the field; field_value names it
+/// for a value that is not a real number).
 template <double RowNoise::*Field>
-void set_checked(RowNoise& r, double v) {
-  RowNoise t = r;
-  t.*Field = v;
-  t.check("RowNoise");
-  r = t;
+auto set_checked(const char* name) {
+  return [name](RowNoise& r, const bind::StrictArg<double>& v) {
+    RowNoise t = r;
+    t.*Field = bind::field_value<double>(v.obj, std::string("RowNoise.") + name);
+    t.check("RowNoise");
+    r = t;
+  };
 }
 
 py::dict result_dict(const SnapshotResult& r) {
@@ -89,8 +93,10 @@ void baseline_methods(C& c) {
 void define_module(py::module_& m) {
   py::class_<RowNoise>(m, "RowNoise",
                        "Noise model of one row in a fix: Gaussian or split (asymmetric) normal.")
-      .def(py::init([](double center, double sigma_left, double sigma_right) {
-             const RowNoise r{center, sigma_left, sigma_right};
+      .def(py::init([](const bind::StrictArg<double>& center, const bind::StrictArg<double>& sigma_left,
+                       const bind::StrictArg<double>& sigma_right) {
+             const RowNoise r{center.get("center"), sigma_left.get("sigma_left"),
+                              sigma_right.get("sigma_right")};
              r.check("RowNoise");
              return r;
            }),
@@ -101,14 +107,16 @@ void define_module(py::module_& m) {
       .def_static("split", &RowNoise::split, py::arg("dist"),
                   "From a noise.AsymmetricNormal (Cong & Zhuang 2005).")
       .def_property(
-          "center", [](const RowNoise& r) { return r.center; }, &set_checked<&RowNoise::center>,
+          "center", [](const RowNoise& r) { return r.center; }, set_checked<&RowNoise::center>("center"),
           "Mean (Gaussian) or mode (split normal) of the noise; finite.")
       .def_property(
-          "sigma_left", [](const RowNoise& r) { return r.sigma_left; }, &set_checked<&RowNoise::sigma_left>,
+          "sigma_left", [](const RowNoise& r) { return r.sigma_left; },
+          set_checked<&RowNoise::sigma_left>("sigma_left"),
           "Standard deviation left of the center; finite > 0.")
       .def_property(
           "sigma_right", [](const RowNoise& r) { return r.sigma_right; },
-          &set_checked<&RowNoise::sigma_right>, "Standard deviation right of the center; finite > 0.")
+          set_checked<&RowNoise::sigma_right>("sigma_right"),
+          "Standard deviation right of the center; finite > 0.")
       .def("valid", &RowNoise::valid, "True when center is finite and both sigmas are finite > 0.")
       .def("log_pdf", &RowNoise::log_pdf, py::arg("r"), "log density of the residual r.")
       .def("normalized", &RowNoise::normalized, py::arg("r"),
@@ -117,10 +125,14 @@ void define_module(py::module_& m) {
   py::class_<GaussNewtonOptions>(m, "GaussNewtonOptions",
                                  "Options of the Gauss-Newton / Levenberg-Marquardt fix.")
       .def(py::init<>())
-      .def_readwrite("max_iterations", &GaussNewtonOptions::max_iterations)
-      .def_readwrite("step_tolerance", &GaussNewtonOptions::step_tolerance)
-      .def_readwrite("initial_damping", &GaussNewtonOptions::initial_damping)
-      .def_readwrite("max_damping", &GaussNewtonOptions::max_damping);
+      .def_property("max_iterations", bind::field_get<&GaussNewtonOptions::max_iterations>(),
+                    bind::field_set<&GaussNewtonOptions::max_iterations>("max_iterations"))
+      .def_property("step_tolerance", bind::field_get<&GaussNewtonOptions::step_tolerance>(),
+                    bind::field_set<&GaussNewtonOptions::step_tolerance>("step_tolerance"))
+      .def_property("initial_damping", bind::field_get<&GaussNewtonOptions::initial_damping>(),
+                    bind::field_set<&GaussNewtonOptions::initial_damping>("initial_damping"))
+      .def_property("max_damping", bind::field_get<&GaussNewtonOptions::max_damping>(),
+                    bind::field_set<&GaussNewtonOptions::max_damping>("max_damping"));
 
   py::class_<Fix>(m, "Fix", "Result of one Gauss-Newton fix.")
       .def_property_readonly(
@@ -214,23 +226,36 @@ void define_module(py::module_& m) {
 
   py::class_<ChenOptions>(m, "ChenOptions", "Options of Chen.")
       .def(py::init<>())
-      .def_readwrite("min_size", &ChenOptions::min_size)
-      .def_readwrite("reject_fraction", &ChenOptions::reject_fraction)
-      .def_readwrite("residual_floor", &ChenOptions::residual_floor);
+      .def_property("min_size", bind::field_get<&ChenOptions::min_size>(),
+                    bind::field_set<&ChenOptions::min_size>("min_size"))
+      .def_property("reject_fraction", bind::field_get<&ChenOptions::reject_fraction>(),
+                    bind::field_set<&ChenOptions::reject_fraction>("reject_fraction"))
+      .def_property("residual_floor", bind::field_get<&ChenOptions::residual_floor>(),
+                    bind::field_set<&ChenOptions::residual_floor>("residual_floor"));
   py::class_<CongOptions>(m, "CongOptions", "Options of Cong.")
       .def(py::init<>())
-      .def_readwrite("confidence", &CongOptions::confidence)
-      .def_readwrite("negative_sigmas", &CongOptions::negative_sigmas)
-      .def_readwrite("min_los", &CongOptions::min_los)
-      .def_readwrite("min_rows", &CongOptions::min_rows)
-      .def_readwrite("fit_samples", &CongOptions::fit_samples)
-      .def_readwrite("fit_seed", &CongOptions::fit_seed);
+      .def_property("confidence", bind::field_get<&CongOptions::confidence>(),
+                    bind::field_set<&CongOptions::confidence>("confidence"))
+      .def_property("negative_sigmas", bind::field_get<&CongOptions::negative_sigmas>(),
+                    bind::field_set<&CongOptions::negative_sigmas>("negative_sigmas"))
+      .def_property("min_los", bind::field_get<&CongOptions::min_los>(),
+                    bind::field_set<&CongOptions::min_los>("min_los"))
+      .def_property("min_rows", bind::field_get<&CongOptions::min_rows>(),
+                    bind::field_set<&CongOptions::min_rows>("min_rows"))
+      .def_property("fit_samples", bind::field_get<&CongOptions::fit_samples>(),
+                    bind::field_set<&CongOptions::fit_samples>("fit_samples"))
+      .def_property("fit_seed", bind::field_get<&CongOptions::fit_seed>(),
+                    bind::field_set<&CongOptions::fit_seed>("fit_seed"));
   py::class_<UrruelaOptions>(m, "UrruelaOptions", "Options of Urruela.")
       .def(py::init<>())
-      .def_readwrite("p_nlos", &UrruelaOptions::p_nlos)
-      .def_readwrite("p_ln", &UrruelaOptions::p_ln)
-      .def_readwrite("p_nl", &UrruelaOptions::p_nl)
-      .def_readwrite("nlos_span", &UrruelaOptions::nlos_span);
+      .def_property("p_nlos", bind::field_get<&UrruelaOptions::p_nlos>(),
+                    bind::field_set<&UrruelaOptions::p_nlos>("p_nlos"))
+      .def_property("p_ln", bind::field_get<&UrruelaOptions::p_ln>(),
+                    bind::field_set<&UrruelaOptions::p_ln>("p_ln"))
+      .def_property("p_nl", bind::field_get<&UrruelaOptions::p_nl>(),
+                    bind::field_set<&UrruelaOptions::p_nl>("p_nl"))
+      .def_property("nlos_span", bind::field_get<&UrruelaOptions::nlos_span>(),
+                    bind::field_set<&UrruelaOptions::nlos_span>("nlos_span"));
 
   {
     py::class_<MleLos> c(m, "MleLos",

@@ -65,8 +65,8 @@ struct type_caster<nlosloc::bind::UInt64Arg> {
 
   bool load(handle src, bool /*convert*/) {
     if (!src) return false;
-    // Integers only: a float seed is a TypeError, as for pybind11's int arguments.
-    if (PyFloat_Check(src.ptr())) return false;
+    // Integers only: a float or bool seed is a TypeError, as for pybind11's int arguments.
+    if (PyFloat_Check(src.ptr()) || PyBool_Check(src.ptr())) return false;
     object idx = reinterpret_steal<object>(PyNumber_Index(src.ptr()));
     if (!idx) {
       PyErr_Clear();
@@ -94,7 +94,8 @@ struct type_caster<nlosloc::bind::IndexArg> {
   PYBIND11_TYPE_CASTER(nlosloc::bind::IndexArg, const_name("int"));
 
   bool load(handle src, bool /*convert*/) {
-    if (!src || PyFloat_Check(src.ptr())) return false;  // a float index is a TypeError, as for int
+    // a float or bool index is a TypeError, as for int
+    if (!src || PyFloat_Check(src.ptr()) || PyBool_Check(src.ptr())) return false;
     object idx = reinterpret_steal<object>(PyNumber_Index(src.ptr()));
     if (!idx) {
       PyErr_Clear();

@@ -13,6 +13,7 @@
 #include <type_traits>
 #include <variant>
 
+#include "field_value.hpp"
 #include "nlosloc/core/gaussian.hpp"
 #include "nlosloc/models/motion.hpp"
 
@@ -48,7 +49,8 @@ template <class A, class Cls>
 void def_set_belief(Cls& c) {
   c.def(
       "set_belief",
-      [](A& a, const VecX& mean, const MatX& cov, std::optional<double> t) {
+      [](A& a, const VecX& mean, const MatX& cov, const std::optional<bind::StrictArg<double>>& t_in) {
+        const std::optional<double> t = bind::optional_get(t_in, "t");
         a.visit([&](auto& f) {
           constexpr int N = std::decay_t<decltype(f)>::kDim;
           const Gaussian<N> g = to_gaussian<N>(mean, cov, "mean", "cov");

@@ -81,7 +81,7 @@ class BoxQpSettings:
         Also require a small gap.
         """
     @check_duality_gap.setter
-    def check_duality_gap(self, arg0: bool) -> None:
+    def check_duality_gap(self, arg1: bool) -> None:
         ...
     @property
     def compute_preconditioner(self) -> bool:
@@ -89,7 +89,7 @@ class BoxQpSettings:
         Ruiz equilibration before each solve (off: problems are pre-scaled).
         """
     @compute_preconditioner.setter
-    def compute_preconditioner(self, arg0: bool) -> None:
+    def compute_preconditioner(self, arg1: bool) -> None:
         ...
     @property
     def eps_abs(self) -> float:
@@ -97,7 +97,7 @@ class BoxQpSettings:
         Absolute residual tolerance (> 0).
         """
     @eps_abs.setter
-    def eps_abs(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def eps_abs(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def eps_duality_gap_abs(self) -> float:
@@ -105,7 +105,7 @@ class BoxQpSettings:
         Duality-gap tolerance.
         """
     @eps_duality_gap_abs.setter
-    def eps_duality_gap_abs(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def eps_duality_gap_abs(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def max_iter(self) -> int:
@@ -113,7 +113,7 @@ class BoxQpSettings:
         Iteration limit (>= 1).
         """
     @max_iter.setter
-    def max_iter(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def max_iter(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
 class QpResult:
     """
@@ -297,19 +297,19 @@ class RangeNoise:
     def min_std(self) -> float:
         ...
     @min_std.setter
-    def min_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def min_std(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def relative(self) -> float:
         ...
     @relative.setter
-    def relative(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def relative(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def sigma0(self) -> float:
         ...
     @sigma0.setter
-    def sigma0(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def sigma0(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
 class ReferencePoint:
     """
@@ -477,7 +477,7 @@ class QpBiasEkfOptions:
         Run the QP every step.
         """
     @always_estimate.setter
-    def always_estimate(self, arg0: bool) -> None:
+    def always_estimate(self, arg1: bool) -> None:
         ...
     @property
     def drop_free_rows(self) -> bool:
@@ -485,7 +485,7 @@ class QpBiasEkfOptions:
         Leave rows whose b^_i is strictly inside its box out of the update (default True).
         """
     @drop_free_rows.setter
-    def drop_free_rows(self, arg0: bool) -> None:
+    def drop_free_rows(self, arg1: bool) -> None:
         ...
     @property
     def gamma(self) -> float:
@@ -493,7 +493,7 @@ class QpBiasEkfOptions:
         Scaling factor of eq. (32), >= 1.
         """
     @gamma.setter
-    def gamma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gamma(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def mitigate(self) -> bool:
@@ -501,7 +501,7 @@ class QpBiasEkfOptions:
         False: plain EKF (eqs. 20-24).
         """
     @mitigate.setter
-    def mitigate(self, arg0: bool) -> None:
+    def mitigate(self, arg1: bool) -> None:
         ...
     @property
     def noise(self) -> RangeNoise:
@@ -509,7 +509,7 @@ class QpBiasEkfOptions:
         RangeNoise of R(k).
         """
     @noise.setter
-    def noise(self, arg0: RangeNoise) -> None:
+    def noise(self, arg1: RangeNoise) -> None:
         ...
     @property
     def reference(self) -> BiasReference:
@@ -517,7 +517,7 @@ class QpBiasEkfOptions:
         BiasReference.Prediction (default: r = innovation, Sigma_v = eq. 27) or Snapshot (Sec. 3).
         """
     @reference.setter
-    def reference(self, arg0: BiasReference) -> None:
+    def reference(self, arg1: BiasReference) -> None:
         ...
     @property
     def soft_threshold(self) -> float:
@@ -525,7 +525,7 @@ class QpBiasEkfOptions:
         PREDICTION only: lambda of an L1 term on eq. (14) keeping rows within about lambda standard deviations as LOS (0 = eq. 14 as written; not in the paper).
         """
     @soft_threshold.setter
-    def soft_threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def soft_threshold(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def sparsity(self) -> float:
@@ -533,7 +533,7 @@ class QpBiasEkfOptions:
         L1 tie-break of eq. (14) (SNAPSHOT only).
         """
     @sparsity.setter
-    def sparsity(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def sparsity(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
 class MitigationStep:
     """
@@ -679,25 +679,25 @@ class BiasAugmentedEkfOptions:
     def bias_prior_mean(self) -> float:
         ...
     @bias_prior_mean.setter
-    def bias_prior_mean(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def bias_prior_mean(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def bias_prior_std(self) -> float:
         ...
     @bias_prior_std.setter
-    def bias_prior_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def bias_prior_std(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def bias_walk_std(self) -> float:
         ...
     @bias_walk_std.setter
-    def bias_walk_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def bias_walk_std(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def iterations(self) -> int:
         ...
     @iterations.setter
-    def iterations(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def iterations(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
 class BiasAugmentedEkf:
     """

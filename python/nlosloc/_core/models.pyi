@@ -22,49 +22,49 @@ class StateLayout:
     def clock_bias(self) -> int:
         ...
     @clock_bias.setter
-    def clock_bias(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def clock_bias(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def clock_drift(self) -> int:
         ...
     @clock_drift.setter
-    def clock_drift(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def clock_drift(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def dim(self) -> int:
         ...
     @dim.setter
-    def dim(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def dim(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def offset(self) -> int:
         ...
     @offset.setter
-    def offset(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def offset(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def position(self) -> int:
         ...
     @position.setter
-    def position(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def position(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def skew(self) -> int:
         ...
     @skew.setter
-    def skew(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def skew(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def space_dim(self) -> int:
         ...
     @space_dim.setter
-    def space_dim(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def space_dim(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def velocity(self) -> int:
         ...
     @velocity.setter
-    def velocity(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def velocity(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
 class VelocityNoise:
     """

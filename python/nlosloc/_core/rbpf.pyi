@@ -134,7 +134,7 @@ class RbpfOptions:
         d_min; negative: eq. (31).
         """
     @merge_threshold.setter
-    def merge_threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def merge_threshold(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def noise_form(self) -> nlosloc._core.filters.NoiseForm:
@@ -142,7 +142,7 @@ class RbpfOptions:
         UKF noise: Additive moments (default, one sigma set per parent) or Augmented (Table III's noise sigma set, one sigma set per child).
         """
     @noise_form.setter
-    def noise_form(self, arg0: nlosloc._core.filters.NoiseForm) -> None:
+    def noise_form(self, arg1: nlosloc._core.filters.NoiseForm) -> None:
         ...
     @property
     def num_particles(self) -> int:
@@ -150,13 +150,13 @@ class RbpfOptions:
         M, particles propagated (>= 1).
         """
     @num_particles.setter
-    def num_particles(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def num_particles(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def threads(self) -> int:
         ...
     @threads.setter
-    def threads(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def threads(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
 class RbpfSnapshot:
     """
@@ -252,25 +252,25 @@ class PfOptions:
     def ess_threshold(self) -> float:
         ...
     @ess_threshold.setter
-    def ess_threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def ess_threshold(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def merge_threshold(self) -> float:
         ...
     @merge_threshold.setter
-    def merge_threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def merge_threshold(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def num_particles(self) -> int:
         ...
     @num_particles.setter
-    def num_particles(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def num_particles(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def threads(self) -> int:
         ...
     @threads.setter
-    def threads(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def threads(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
 class PfSnapshot:
     """

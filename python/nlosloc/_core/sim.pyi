@@ -107,7 +107,7 @@ class H1Params:
         Table VIII: AOA LOS Normal variance (rad^2), > 0.
         """
     @aoa_los_var.setter
-    def aoa_los_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def aoa_los_var(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def aoa_nlos_var(self) -> float:
@@ -115,7 +115,7 @@ class H1Params:
         Table VIII: AOA NLOS Normal variance (rad^2), > 0.
         """
     @aoa_nlos_var.setter
-    def aoa_nlos_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def aoa_nlos_var(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def discard(self) -> int:
@@ -123,7 +123,7 @@ class H1Params:
         Choice: first samples left out, 0 <= discard < steps.
         """
     @discard.setter
-    def discard(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def discard(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def dt(self) -> float:
@@ -131,7 +131,7 @@ class H1Params:
         Table VII: Delta t (s), > 0.
         """
     @dt.setter
-    def dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def dt(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def heading(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
@@ -155,7 +155,7 @@ class H1Params:
         Table VII: E{L_LOS} (m), > 0.
         """
     @mean_los.setter
-    def mean_los(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mean_los(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def mean_nlos(self) -> float:
@@ -163,7 +163,7 @@ class H1Params:
         Table VII: E{L_NLOS} (m), > 0.
         """
     @mean_nlos.setter
-    def mean_nlos(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mean_nlos(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def quality_los_a(self) -> float:
@@ -171,7 +171,7 @@ class H1Params:
         Choice: o | LOS ~ Beta(a, b), a > 0.
         """
     @quality_los_a.setter
-    def quality_los_a(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def quality_los_a(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def quality_los_b(self) -> float:
@@ -179,7 +179,7 @@ class H1Params:
         Choice: o | LOS ~ Beta(a, b), b > 0.
         """
     @quality_los_b.setter
-    def quality_los_b(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def quality_los_b(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def quality_nlos_a(self) -> float:
@@ -187,7 +187,7 @@ class H1Params:
         Choice: o | NLOS ~ Beta(a, b), a > 0.
         """
     @quality_nlos_a.setter
-    def quality_nlos_a(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def quality_nlos_a(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def quality_nlos_b(self) -> float:
@@ -195,7 +195,7 @@ class H1Params:
         Choice: o | NLOS ~ Beta(a, b), b > 0.
         """
     @quality_nlos_b.setter
-    def quality_nlos_b(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def quality_nlos_b(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def rbpf_particles(self) -> int:
@@ -203,7 +203,7 @@ class H1Params:
         Sec. VI-A: particles of rRBPF-8, >= 1.
         """
     @rbpf_particles.setter
-    def rbpf_particles(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def rbpf_particles(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def sector_deg(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
@@ -219,7 +219,7 @@ class H1Params:
         Table VII: filters' sigma_v^2 ((m/s)^2 per s), >= 0.
         """
     @sigma_v2.setter
-    def sigma_v2(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def sigma_v2(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def speed(self) -> float:
@@ -227,7 +227,7 @@ class H1Params:
         Table VII: mobile speed (m/s), > 0.
         """
     @speed.setter
-    def speed(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def speed(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def start(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
@@ -243,7 +243,7 @@ class H1Params:
         Table VII: number of steps (200 s), > discard.
         """
     @steps.setter
-    def steps(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def steps(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def toa_los_var(self) -> float:
@@ -251,7 +251,7 @@ class H1Params:
         Table VIII: TOA LOS Normal variance (m^2), > 0.
         """
     @toa_los_var.setter
-    def toa_los_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def toa_los_var(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def toa_nlos_var(self) -> float:
@@ -259,7 +259,7 @@ class H1Params:
         Table VIII: TOA NLOS Rayleigh variance (m^2), > 0.
         """
     @toa_nlos_var.setter
-    def toa_nlos_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def toa_nlos_var(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
 class H1(Scenario):
     """
@@ -307,7 +307,7 @@ class H2Params:
         Choice: first samples left out, 0 <= discard < steps.
         """
     @discard.setter
-    def discard(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def discard(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def dt(self) -> float:
@@ -315,7 +315,7 @@ class H2Params:
         Table IX: Delta t (s), > 0.
         """
     @dt.setter
-    def dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def dt(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def mean_los(self) -> float:
@@ -323,7 +323,7 @@ class H2Params:
         Table IX: E{L_LOS} (m), > 0.
         """
     @mean_los.setter
-    def mean_los(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mean_los(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def mean_nlos(self) -> float:
@@ -331,7 +331,7 @@ class H2Params:
         Table IX: E{L_NLOS} (m), > 0.
         """
     @mean_nlos.setter
-    def mean_nlos(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def mean_nlos(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def pf_particles(self) -> int:
@@ -339,7 +339,7 @@ class H2Params:
         Sec. VI-B: particles of PF, >= 1.
         """
     @pf_particles.setter
-    def pf_particles(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def pf_particles(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def position0_std(self) -> float:
@@ -347,7 +347,7 @@ class H2Params:
         Choice: std of the start (m), > 0.
         """
     @position0_std.setter
-    def position0_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def position0_std(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def quality_los_a(self) -> float:
@@ -355,7 +355,7 @@ class H2Params:
         Choice: o | LOS ~ Beta(a, b), a > 0.
         """
     @quality_los_a.setter
-    def quality_los_a(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def quality_los_a(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def quality_los_b(self) -> float:
@@ -363,7 +363,7 @@ class H2Params:
         Choice: o | LOS ~ Beta(a, b), b > 0.
         """
     @quality_los_b.setter
-    def quality_los_b(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def quality_los_b(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def quality_nlos_a(self) -> float:
@@ -371,7 +371,7 @@ class H2Params:
         Choice: o | NLOS ~ Beta(a, b), a > 0.
         """
     @quality_nlos_a.setter
-    def quality_nlos_a(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def quality_nlos_a(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def quality_nlos_b(self) -> float:
@@ -379,7 +379,7 @@ class H2Params:
         Choice: o | NLOS ~ Beta(a, b), b > 0.
         """
     @quality_nlos_b.setter
-    def quality_nlos_b(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def quality_nlos_b(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def rtoa_los_var(self) -> float:
@@ -387,7 +387,7 @@ class H2Params:
         Table X: RTOA LOS Normal variance, > 0.
         """
     @rtoa_los_var.setter
-    def rtoa_los_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rtoa_los_var(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def rtoa_nlos_var(self) -> float:
@@ -395,7 +395,7 @@ class H2Params:
         Table X: RTOA NLOS Rayleigh variance, > 0.
         """
     @rtoa_nlos_var.setter
-    def rtoa_nlos_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def rtoa_nlos_var(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def side(self) -> float:
@@ -403,7 +403,7 @@ class H2Params:
         Sec. VI-B: hexagon side = circumradius (m), > 0.
         """
     @side.setter
-    def side(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def side(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def sigma_tau2(self) -> float:
@@ -411,7 +411,7 @@ class H2Params:
         Table IX: drift random walk sigma_tau^2, >= 0.
         """
     @sigma_tau2.setter
-    def sigma_tau2(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def sigma_tau2(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def sigma_v2(self) -> float:
@@ -419,7 +419,7 @@ class H2Params:
         Table IX: velocity random walk sigma_v^2, >= 0.
         """
     @sigma_v2.setter
-    def sigma_v2(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def sigma_v2(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def steps(self) -> int:
@@ -427,7 +427,7 @@ class H2Params:
         Table IX: number of steps (60 s), > discard.
         """
     @steps.setter
-    def steps(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def steps(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def tau0_var(self) -> float:
@@ -435,7 +435,7 @@ class H2Params:
         Table IX: E{tau_0^2} (lm^2), > 0.
         """
     @tau0_var.setter
-    def tau0_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def tau0_var(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def tau_dot0_var(self) -> float:
@@ -443,7 +443,7 @@ class H2Params:
         Table IX: E{tau_dot_0^2} ((lm/s)^2), > 0.
         """
     @tau_dot0_var.setter
-    def tau_dot0_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def tau_dot0_var(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def urr_speed(self) -> float:
@@ -451,7 +451,7 @@ class H2Params:
         Choice: transversal speed (m/s) of URR's switch probabilities, > 0.
         """
     @urr_speed.setter
-    def urr_speed(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def urr_speed(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def velocity0_std(self) -> float:
@@ -459,7 +459,7 @@ class H2Params:
         Choice: std of the initial velocity, > 0.
         """
     @velocity0_std.setter
-    def velocity0_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def velocity0_std(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
 class H2(Scenario):
     """
@@ -515,7 +515,7 @@ class K1Params:
         Sec. 6: sigma_x^2 = sigma_y^2 of eq. (16) ((m/s^2)^2), >= 0.
         """
     @accel_var.setter
-    def accel_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def accel_var(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -531,7 +531,7 @@ class K1Params:
         First samples left out of the statistics, 0 <= discard < steps.
         """
     @discard.setter
-    def discard(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def discard(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def dt(self) -> float:
@@ -539,7 +539,7 @@ class K1Params:
         Sec. 6: Delta t (s), > 0.
         """
     @dt.setter
-    def dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def dt(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def gamma(self) -> float:
@@ -547,7 +547,7 @@ class K1Params:
         Sec. 5: scaling factor of the NLOS test, eq. (32), finite >= 1.
         """
     @gamma.setter
-    def gamma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gamma(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def initial_std(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
@@ -563,7 +563,7 @@ class K1Params:
         Choice: iterated NLOS EKF, prior std of each bias (m), > 0.
         """
     @iterated_bias_prior_std.setter
-    def iterated_bias_prior_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def iterated_bias_prior_std(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def iterated_bias_walk_std(self) -> float:
@@ -571,7 +571,7 @@ class K1Params:
         Choice: iterated NLOS EKF, bias random walk (m/step), >= 0.
         """
     @iterated_bias_walk_std.setter
-    def iterated_bias_walk_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def iterated_bias_walk_std(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def iterated_iterations(self) -> int:
@@ -579,7 +579,7 @@ class K1Params:
         Choice: iterated NLOS EKF, iterations of the update, >= 1.
         """
     @iterated_iterations.setter
-    def iterated_iterations(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def iterated_iterations(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def nlos_mean(self) -> float:
@@ -587,7 +587,7 @@ class K1Params:
         Sec. 6.1: NLOS error b_i ~ N(mean, std^2) (m), > 0.
         """
     @nlos_mean.setter
-    def nlos_mean(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def nlos_mean(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def nlos_nonnegative(self) -> bool:
@@ -595,7 +595,7 @@ class K1Params:
         Choice: b_i = max(0, draw) (Sec. 2, eq. 1: b_i(k) >= 0); False keeps the normal draw.
         """
     @nlos_nonnegative.setter
-    def nlos_nonnegative(self, arg0: bool) -> None:
+    def nlos_nonnegative(self, arg1: bool) -> None:
         ...
     @property
     def nlos_std(self) -> float:
@@ -603,7 +603,7 @@ class K1Params:
         Sec. 6.1: NLOS error std (m), > 0.
         """
     @nlos_std.setter
-    def nlos_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def nlos_std(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def sigma_los(self) -> float:
@@ -611,7 +611,7 @@ class K1Params:
         Sec. 6: TOA noise n_i ~ N(0, sigma_los^2) (m), > 0.
         """
     @sigma_los.setter
-    def sigma_los(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def sigma_los(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def start(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
@@ -627,7 +627,7 @@ class K1Params:
         Sec. 6: L, samples per run, > discard.
         """
     @steps.setter
-    def steps(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def steps(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def velocity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
@@ -679,7 +679,7 @@ class K2Params:
         K1Params: geometry, noise, motion, L, dt, discard, estimator choices (edited in place).
         """
     @base.setter
-    def base(self, arg0: K1Params) -> None:
+    def base(self, arg1: K1Params) -> None:
         ...
     @property
     def period(self) -> int:
@@ -687,7 +687,7 @@ class K2Params:
         Sec. 6.2: samples between LOS/NLOS switches, >= 1.
         """
     @period.setter
-    def period(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def period(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def start_nlos(self) -> bool:
@@ -695,7 +695,7 @@ class K2Params:
         Choice: the first block is NLOS.
         """
     @start_nlos.setter
-    def start_nlos(self, arg0: bool) -> None:
+    def start_nlos(self, arg1: bool) -> None:
         ...
 class K2(Scenario):
     """
@@ -733,7 +733,7 @@ class K3Params:
         Sec. 6: sigma_x^2 = sigma_y^2 of eq. (16) ((m/s^2)^2), >= 0.
         """
     @accel_var.setter
-    def accel_var(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def accel_var(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def bad(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -749,7 +749,7 @@ class K3Params:
         First samples left out of the statistics, 0 <= discard < steps.
         """
     @discard.setter
-    def discard(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def discard(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def dt(self) -> float:
@@ -757,7 +757,7 @@ class K3Params:
         Sec. 6: Delta t (s), > 0.
         """
     @dt.setter
-    def dt(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def dt(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def gamma(self) -> float:
@@ -765,7 +765,7 @@ class K3Params:
         Sec. 5: scaling factor of the NLOS test, eq. (32), finite >= 1.
         """
     @gamma.setter
-    def gamma(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def gamma(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def good(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -789,7 +789,7 @@ class K3Params:
         Choice: iterated NLOS EKF, prior std of each bias (m), > 0.
         """
     @iterated_bias_prior_std.setter
-    def iterated_bias_prior_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def iterated_bias_prior_std(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def iterated_bias_walk_std(self) -> float:
@@ -797,7 +797,7 @@ class K3Params:
         Choice: iterated NLOS EKF, bias random walk (m/step), >= 0.
         """
     @iterated_bias_walk_std.setter
-    def iterated_bias_walk_std(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def iterated_bias_walk_std(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def iterated_iterations(self) -> int:
@@ -805,7 +805,7 @@ class K3Params:
         Choice: iterated NLOS EKF, iterations of the update, >= 1.
         """
     @iterated_iterations.setter
-    def iterated_iterations(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def iterated_iterations(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def nlos_rel(self) -> float:
@@ -813,7 +813,7 @@ class K3Params:
         Sec. 6.4: NLOS error exponential with mean nlos_rel d_i, > 0.
         """
     @nlos_rel.setter
-    def nlos_rel(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def nlos_rel(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def sigma_rel(self) -> float:
@@ -821,7 +821,7 @@ class K3Params:
         Sec. 6.4: sigma_i = sigma_rel d_i, > 0.
         """
     @sigma_rel.setter
-    def sigma_rel(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def sigma_rel(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def start(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
@@ -837,7 +837,7 @@ class K3Params:
         Sec. 6: L, samples per run, > discard.
         """
     @steps.setter
-    def steps(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def steps(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def threshold(self) -> float:
@@ -845,7 +845,7 @@ class K3Params:
         Sec. 6.4: error threshold (m) of P(error <= t), > 0: the bench's line, and format_k3_probability(result, threshold).
         """
     @threshold.setter
-    def threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def threshold(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def velocity(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:

@@ -79,25 +79,25 @@ class GaussNewtonOptions:
     def initial_damping(self) -> float:
         ...
     @initial_damping.setter
-    def initial_damping(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def initial_damping(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def max_damping(self) -> float:
         ...
     @max_damping.setter
-    def max_damping(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def max_damping(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def max_iterations(self) -> int:
         ...
     @max_iterations.setter
-    def max_iterations(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def max_iterations(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def step_tolerance(self) -> float:
         ...
     @step_tolerance.setter
-    def step_tolerance(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def step_tolerance(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
 class Fix:
     """
@@ -202,19 +202,19 @@ class ChenOptions:
     def min_size(self) -> int:
         ...
     @min_size.setter
-    def min_size(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def min_size(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def reject_fraction(self) -> float:
         ...
     @reject_fraction.setter
-    def reject_fraction(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def reject_fraction(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def residual_floor(self) -> float:
         ...
     @residual_floor.setter
-    def residual_floor(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def residual_floor(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
 class CongOptions:
     """
@@ -230,37 +230,37 @@ class CongOptions:
     def confidence(self) -> float:
         ...
     @confidence.setter
-    def confidence(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def confidence(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def fit_samples(self) -> int:
         ...
     @fit_samples.setter
-    def fit_samples(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def fit_samples(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def fit_seed(self) -> int:
         ...
     @fit_seed.setter
-    def fit_seed(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def fit_seed(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def min_los(self) -> int:
         ...
     @min_los.setter
-    def min_los(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def min_los(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def min_rows(self) -> int:
         ...
     @min_rows.setter
-    def min_rows(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def min_rows(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def negative_sigmas(self) -> float:
         ...
     @negative_sigmas.setter
-    def negative_sigmas(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def negative_sigmas(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
 class UrruelaOptions:
     """
@@ -276,25 +276,25 @@ class UrruelaOptions:
     def nlos_span(self) -> float:
         ...
     @nlos_span.setter
-    def nlos_span(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def nlos_span(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def p_ln(self) -> float:
         ...
     @p_ln.setter
-    def p_ln(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def p_ln(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def p_nl(self) -> float:
         ...
     @p_nl.setter
-    def p_nl(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def p_nl(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def p_nlos(self) -> float:
         ...
     @p_nlos.setter
-    def p_nlos(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def p_nlos(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
 class MleLos:
     """

@@ -1,0 +1,163 @@
+#pragma once
+/// \file field_value.hpp
+/// Strict conversion of one Python value to a C++ scalar or registered type, with errors that name the
+/// receiver: the option and parameter fields (`QpBiasEkfOptions.gamma`) and the time arguments (`t0`).
+/// pybind11's own casters, used by def_readwrite and plain double/int arguments, take None and 0.5 as
+/// False for a bool field, True as 1.0 for a float, and refuse a wrong type with "incompatible function
+/// arguments" (TypeError) that shows the signature but not the field. Here a bool is a bool (True, False,
+/// numpy.bool_), a real number is anything with __float__ except bool, complex and str, and an integer is
+/// anything with __index__ except bool, in the range of the C++ type (ValueError otherwise). A 0-d numpy
+/// array is read as its scalar; any other array is refused.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <typeinfo>
+
+namespace nlosloc::bind {
+
+namespace field_detail {
+
+namespace py = pybind11;
+
+/// "0.5 (float)": the value and its type, for the messages.
+inline std::string describe(py::handle v) {
+  return std::string(py::repr(v)) + " (" + std::string(py::str(py::type::of(v).attr("__name__"))) + ")";
+}
+
+/// Whether v is an instance of numpy's scalar type `name` (bool_, complexfloating).
+inline bool is_numpy(py::handle v, const char* name) {
+  const py::object np = py::module_::import("numpy");
+  return py::isinstance(v, np.attr(name));
+}
+
+/// A 0-d array as its Python scalar, any other object as it is; an array of 1 or more dimensions is refused.
+inline py::object unwrap_0d(py::handle v, const std::string& what, const char* expected) {
+  if (!py::isinstance<py::array>(v)) return py::reinterpret_borrow<py::object>(v);
+  const auto a = py::reinterpret_borrow<py::array>(v);
+  if (a.ndim() != 0)
+    throw py::type_error(what + ": expected " + expected + ", got an array of " + std::to_string(a.ndim()) +
+                         " dimensions");
+  return a.attr("item")();
+}
+
+inline bool is_bool(py::handle v) { return PyBool_Check(v.ptr()) || is_numpy(v, "bool_"); }
+
+inline bool to_bool(py::handle v0, const std::string& what) {
+  const py::object v = unwrap_0d(v0, what, "a bool (True or False)");
+  if (!is_bool(v)) throw py::type_error(what + ": expected a bool (True or False), got " + describe(v));
+  return PyObject_IsTrue(v.ptr()) == 1;
+}
+
+inline double to_real(py::handle v0, const std::string& what) {
+  const py::object v = unwrap_0d(v0, what, "a real number");
+  // str has no __float__ slot; complex and numpy's complex scalars have one that drops the imaginary part.
+  const auto* num = Py_TYPE(v.ptr())->tp_as_number;
+  const bool has_float = num != nullptr && (num->nb_float != nullptr || num->nb_index != nullptr);
+  if (!has_float || is_bool(v) || PyComplex_Check(v.ptr()) || is_numpy(v, "complexfloating"))
+    throw py::type_error(what + ": expected a real number, got " + describe(v));
+  const double d = PyFloat_AsDouble(v.ptr());
+  if (d == -1.0 && PyErr_Occurred()) {  // an int beyond a double's range (OverflowError)
+    PyErr_Clear();
+    throw py::value_error(what + ": expected a real number within the range of a double, got " + describe(v));
+  }
+  return d;
+}
+
+template <class T>
+T to_integer(py::handle v0, const std::string& what) {
+  constexpr auto lo = std::numeric_limits<T>::min();
+  constexpr auto hi = std::numeric_limits<T>::max();
+  const std::string range = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  const py::object v = unwrap_0d(v0, what, "an integer");
+  if (is_bool(v) || !PyIndex_Check(v.ptr()))  // a float has no __index__: 2.0 is refused, as in range()
+    throw py::type_error(what + ": expected an integer, got " + describe(v));
+  const auto i = py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr()));
+  if (!i) throw py::error_already_set();
+  int overflow = 0;
+  const long long s = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow == 0 && s == -1 && PyErr_Occurred()) throw py::error_already_set();
+  bool fits = false;
+  T out{};
+  if (overflow == 0) {
+    fits = std::is_signed_v<T> ? (s >= static_cast<long long>(lo) && s <= static_cast<long long>(hi))
+                               : (s >= 0 && static_cast<unsigned long long>(s) <= hi);
+    out = static_cast<T>(s);
+  } else if (overflow > 0 && !std::is_signed_v<T>) {  // above 2**63 - 1: within 2**64 - 1?
+    const unsigned long long u = PyLong_AsUnsignedLongLong(i.ptr());
+    if (u == static_cast<unsigned long long>(-1) && PyErr_Occurred()) {
+      PyErr_Clear();
+    } else {
+      fits = u <= hi;
+      out = static_cast<T>(u);
+    }
+  }
+  if (!fits) throw py::value_error(what + ": expected " + range + ", got " + std::string(py::repr(i)));
+  return out;
+}
+
+}  // namespace field_detail
+
+/// `v` as a T, or TypeError/ValueError beginning with `what` (the field or argument name). Scalars follow
+/// the rules of the file comment; any other T (an enum, a struct) is pybind11's cast, its failure named.
+template <class T>
+T field_value(pybind11::handle v, const std::string& what) {
+  namespace py = pybind11;
+  if constexpr (std::is_same_v<T, bool>) {
+    return field_detail::to_bool(v, what);
+  } else if constexpr (std::is_floating_point_v<T>) {
+    return static_cast<T>(field_detail::to_real(v, what));
+  } else if constexpr (std::is_integral_v<T>) {
+    return field_detail::to_integer<T>(v, what);
+  } else {
+    try {
+      return py::cast<T>(v);
+    } catch (const py::cast_error&) {
+      // py::type::of<T> is for classes only; the registry also knows the enums of py::enum_.
+      const auto* info = py::detail::get_type_info(typeid(T));
+      const std::string name =
+          info != nullptr
+              ? std::string(py::str(py::handle(reinterpret_cast<PyObject*>(info->type)).attr("__name__")))
+              : std::string(py::detail::make_caster<T>::name.text);
+      throw py::type_error(what + ": expected " + name + ", got " + field_detail::describe(v));
+    }
+  }
+}
+
+/// An argument of type T read by field_value when the function reads it (get), so its errors name it. The
+/// caster takes any object: only for functions without overloads. The signature shows T's Python type.
+template <class T>
+struct StrictArg {
+  pybind11::object obj;
+  T get(const char* name) const { return field_value<T>(obj, name); }
+};
+
+/// An optional StrictArg's value (nullopt for None).
+template <class T>
+std::optional<T> optional_get(const std::optional<StrictArg<T>>& a, const char* name) {
+  if (!a) return std::nullopt;
+  return a->get(name);
+}
+
+}  // namespace nlosloc::bind
+
+namespace pybind11::detail {
+
+template <class T>
+struct type_caster<nlosloc::bind::StrictArg<T>> {
+  PYBIND11_TYPE_CASTER(nlosloc::bind::StrictArg<T>, make_caster<T>::name);
+  bool load(handle src, bool /*convert*/) {
+    if (!src) return false;
+    value.obj = reinterpret_borrow<object>(src);
+    return true;
+  }
+  static handle cast(const nlosloc::bind::StrictArg<T>& v, return_value_policy, handle) {
+    return v.obj.inc_ref();
+  }
+};
+
+}  // namespace pybind11::detail
