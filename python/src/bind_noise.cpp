@@ -11,6 +11,7 @@
 #include <string>
 
 #include "bind.hpp"
+#include "motion_arg.hpp"
 #include "nlosloc/core/random.hpp"
 #include "nlosloc/models/noise.hpp"
 
@@ -329,8 +330,10 @@ sigma_right : float
     Standard deviation right of the mode, > 0.
 )doc");
   asym.def(py::init<double, double, double>(), py::arg("mode"), py::arg("sigma_left"), py::arg("sigma_right"))
-      .def_static("fit", &AsymmetricNormal::fit, py::arg("samples"),
-                  R"doc(Maximum-likelihood fit (Villani & Larsson 2006 profile likelihood).
+      .def_static(
+          "fit", [](const bind::VecArg& samples) { return AsymmetricNormal::fit(samples.get("samples")); },
+          py::arg("samples"),
+          R"doc(Maximum-likelihood fit (Villani & Larsson 2006 profile likelihood).
 
 For a mode m the ML sigmas are closed-form; the mode minimises S_l^(1/3) + S_r^(1/3) (sums of squared
 deviations left / right of m), searched over the samples and refined by golden section.
@@ -388,7 +391,9 @@ Parameters
 samples : numpy.ndarray
     Shape (n,), n >= 2 finite values with a nonzero spread (unit of x).
 )doc");
-  empirical.def(py::init<const VecX&>(), py::arg("samples"))
+  empirical
+      .def(py::init([](const bind::VecArg& samples) { return Empirical(samples.get("samples")); }),
+           py::arg("samples"))
       .def_property_readonly("samples", &Empirical::samples, py::return_value_policy::copy,
                              "The samples, sorted ascending, shape (n,).")
       .def_property_readonly("bandwidth", &Empirical::bandwidth, "Kernel bandwidth h (unit of x).")

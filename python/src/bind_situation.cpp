@@ -170,9 +170,8 @@ void define_module(py::module_& m) {
              check_probabilities(gamma, gamma.rows(), gamma.cols(), "gamma");
              check_probabilities(pred, gamma.rows(), gamma.cols(), "pred");
              NLOSLOC_ENSURE(k >= 0, "k: expected a step index >= 0, got " + std::to_string(k));
-             NLOSLOC_ENSURE(
-                 !std::isnan(log_evidence) && log_evidence != std::numeric_limits<double>::infinity(),
-                 "log_evidence: expected a finite value or -inf");
+             NLOSLOC_ENSURE(std::isfinite(log_evidence), "log_evidence: expected a finite value, got " +
+                                                             nlosloc::detail::fmt_shortest(log_evidence));
              return ForwardFilter::Snapshot{gamma, pred, k, log_evidence};
            }),
            py::arg("gamma"), py::arg("pred"), py::arg("k"), py::arg("log_evidence"),

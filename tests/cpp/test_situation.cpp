@@ -236,7 +236,11 @@ TEST_CASE("forward filter restore and the speed chain refuse what they used to s
   CHECK(refused(s) == "snapshot.k: expected a step index >= 0, got -5");
   s = good;
   s.log_evidence = std::nan("");
-  CHECK(refused(s) == "snapshot.log_evidence: expected a number, got NaN");
+  CHECK(refused(s) == "snapshot.log_evidence: expected a finite value, got nan");
+  s.log_evidence = std::numeric_limits<double>::infinity();  // update() never gives one (was accepted)
+  CHECK(refused(s) == "snapshot.log_evidence: expected a finite value, got inf");
+  s.log_evidence = -std::numeric_limits<double>::infinity();
+  CHECK(refused(s) == "snapshot.log_evidence: expected a finite value, got -inf");
   CHECK(refused(good) == "accepted");
 
   // Eq. (17) at speeds where 1 - p_LN p_NL rounds to 0: finite rows summing to 1 (inf entries before), and
@@ -264,6 +268,37 @@ TEST_CASE("forward filter restore and the speed chain refuse what they used to s
                     "speeds: expected finite transversal speeds >= 0, got nan at anchor 1");
   CHECK_THROWS_WITH(proc.log_transition(cur, cur, 1, bad),
                     "speeds: expected finite transversal speeds >= 0, got nan at anchor 1");
+  // speeds a fixed chain does not read may be left out, but are checked when given (they were ignored)
+  const SightProcess fixed_proc(SightModel::fixed((MatX(2, 2) << 0.9, 0.1, 0.2, 0.8).finished()), 2);
+  CHECK_NOTHROW(fixed_proc.sample_next(cur, 1, VecX(), rng));
+  CHECK_NOTHROW(fixed_proc.log_transition(cur, cur, 1, VecX()));
+  CHECK_THROWS_WITH(fixed_proc.sample_next(cur, 1, bad, rng),
+                    "speeds: expected finite transversal speeds >= 0, got nan at anchor 1");
+  CHECK_THROWS_WITH(fixed_proc.log_transition(cur, cur, 1, VecX::Ones(3)),
+                    "speeds: expected shape (2, 1), got (3, 1)");
+  ForwardFilter ff(fixed_proc, QualityModel({nn::Beta(4, 1.5), nn::Beta(1.5, 4)}));
+  const MatX ff0 = ff.probabilities();
+  CHECK_THROWS_WITH(ff.step(o, bad), "speeds: expected finite values >= 0, got nan at anchor 1");
+  CHECK_THROWS_WITH(ff.predict(VecX::Ones(1)), "speeds: expected shape (2, 1), got (1, 1)");
+  CHECK(ff.probabilities() == ff0);
+  CHECK(ff.step_index() == 0);
+  ff.step(o);
+  CHECK(ff.step_index() == 1);
+  // eq. (18) does not read w, but w is checked as for eqs. (15) and (17) (it was not)
+  const SightModel memoryless = SightModel::speed_dependent(30, 5, 0.1, SpeedModel::kMemoryless);
+  for (const double wb : {-5.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    CHECK_THROWS_WITH(memoryless.transition(1, wb),
+                      Catch::Matchers::StartsWith("w: expected a finite value >= 0"));
+    CHECK_THROWS_WITH(memoryless.sample_next(0, 1, wb, rng),
+                      Catch::Matchers::StartsWith("w: expected a finite value >= 0"));
+  }
+  CHECK(memoryless.transition(1, 3.0) == memoryless.base_matrix());
+  // the vector forms of the quality model name their argument s and the anchor, not the inner z
+  const QualityModel qm({nn::Beta(4, 1.5), nn::Beta(1.5, 4)});
+  CHECK_THROWS_WITH(qm.log_likelihood(o, (VecXi(2) << 0, 2).finished()),
+                    "s: expected conditions in [0, N_z = 2), got 2 at anchor 1");
+  CHECK_THROWS_WITH(qm.sample((VecXi(2) << -1, 0).finished(), rng),
+                    "s: expected conditions in [0, N_z = 2), got -1 at anchor 0");
   // a statistic where a density is infinite (Beta(0.5, 4) at 0) is named as such, not as "impossible"
   ForwardFilter g(SightProcess(SightModel::speed_dependent(30, 5, 0.1), 1),
                   QualityModel({nn::Beta(4, 1.5), nn::Beta(0.5, 4)}));

@@ -110,6 +110,14 @@ TEST_CASE("LosSolver: argument checks name the argument", "[snapshot]") {
   CHECK_THROWS_WITH(s.solve(VecX::Zero(6), Theta::Zero(2), std::vector<char>(6, 1), s.los_noise()),
                     Catch::Matchers::Contains("theta0"));
   CHECK_THROWS_WITH(Chen(st, ChenOptions{-1, 1.0}), Catch::Matchers::Contains("reject_fraction"));
+  // inf was taken: every weight 1 / inf = 0 gave a NaN fix marked valid, and an infinite step tolerance
+  // ended each solve after one step, reported converged
+  const double inf = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(Chen(st, ChenOptions{-1, 0.5, inf}), "opt.residual_floor: expected a finite value > 0");
+  CHECK_THROWS_WITH(LosSolver(st, GaussNewtonOptions{30, inf}),
+                    "opt.step_tolerance: expected a finite value > 0");
+  CHECK_THROWS_WITH(MleLos(st, GaussNewtonOptions{30, std::nan("")}),
+                    "opt.step_tolerance: expected a finite value > 0");
   CHECK_THROWS_WITH(subsets_at_least(21, 1), Catch::Matchers::Contains("num_anchors"));
   // a start that is not finite: refused by every snapshot estimator's reset, naming it
   const Theta bad = (Theta(3) << 0.0, std::nan(""), 0.0).finished();

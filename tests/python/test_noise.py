@@ -538,3 +538,15 @@ def test_beta_quantile_and_cdf_next_to_the_underflow() -> None:
         assert np.exp(_log_ibeta_series(d.from_standard_normal(-30.0), a, b)) == pytest.approx(
             q, rel=1e-12
         )
+
+
+def test_sample_vectors_of_the_wrong_shape_are_named():
+    # pybind11's Eigen caster refused them with "incompatible function arguments" (a TypeError)
+    for make in (nn.Empirical, nn.AsymmetricNormal.fit):
+        with pytest.raises(
+            ValueError, match=r"^samples: expected a 1-D float array, got 2 dimensions$"
+        ):
+            make(np.ones((2, 3)))
+        with pytest.raises(ValueError, match=r"^samples: expected a 1-D float array, got None$"):
+            make(None)
+    assert nn.Empirical([1.0, 2.0, 4.0]).size == 3

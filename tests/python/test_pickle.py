@@ -186,8 +186,13 @@ def test_a_snapshot_built_by_hand_is_checked() -> None:
         situation.ForwardFilterSnapshot(g, g, -1, 0.0)
     with pytest.raises(ValueError, match=r"gamma: expected a \(B, N_z\) array"):
         situation.ForwardFilterSnapshot(np.zeros((0, 2)), np.zeros((0, 2)), 0, 0.0)
-    with pytest.raises(ValueError, match="log_evidence: expected a finite value or -inf"):
-        situation.ForwardFilterSnapshot(g, g, 0, np.nan)
+    # as ForwardFilter.restore: finite (it took +inf, which restore() refused, and -inf, which no
+    # update gives: a statistic of zero or infinite density is refused)
+    for v, text in ((np.nan, "nan"), (np.inf, "inf"), (-np.inf, "-inf")):
+        with pytest.raises(
+            ValueError, match=f"^log_evidence: expected a finite value, got {text}$"
+        ):
+            situation.ForwardFilterSnapshot(g, g, 0, v)
 
 
 def ke_wu_trackers(s: sim.Scenario, d: dict) -> list:

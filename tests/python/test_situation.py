@@ -181,3 +181,60 @@ def test_quality_model_vector_forms():
     assert qm.log_likelihood(np.array([0.8, 0.8, np.nan]), np.array([0, 1, 1])) == pytest.approx(
         l0 + l1
     )
+
+
+def test_arguments_checked_that_the_chain_does_not_read():
+    """Found by an API check: these were ignored, so a wrong value passed silently."""
+    rng = core.Rng(1)
+    # eq. (18) does not depend on w, but w is checked as for eqs. (15) and (17)
+    for form in (
+        situation.SpeedModel.Single,
+        situation.SpeedModel.Multiple,
+        situation.SpeedModel.Memoryless,
+    ):
+        m = situation.SightModel.speed_dependent(50.0, 10.0, 1.0, form)
+        for w in (math.nan, -5.0, math.inf):
+            with pytest.raises(ValueError, match=r"^w: expected a finite value >= 0"):
+                m.transition(1, w)
+            with pytest.raises(ValueError, match=r"^w: expected a finite value >= 0"):
+                m.sample_next(0, 1, w, rng)
+    # a fixed chain does not read speeds: they may be left out, but are checked when given
+    p = situation.SightProcess(situation.SightModel.fixed(np.array([[0.9, 0.1], [0.2, 0.8]])), 3)
+    q = situation.QualityModel([noise.Beta(4, 1.5), noise.Beta(1.5, 4)])
+    f = situation.ForwardFilter(p, q)
+    s0 = np.zeros(3, dtype=int)
+    o = np.array([0.5, 0.5, 0.5])
+    for bad, msg in (
+        (np.array([np.nan, -1.0]), r"^speeds: expected shape \(3, 1\), got \(2, 1\)$"),
+        (
+            np.array([1.0, np.nan, 1.0]),
+            r"^speeds: expected finite values >= 0, got nan at anchor 1$",
+        ),
+    ):
+        with pytest.raises(ValueError, match=msg):
+            f.predict(bad)
+        with pytest.raises(ValueError, match=msg):
+            f.step(o, bad)
+        with pytest.raises(
+            ValueError, match=msg.replace("finite values", "finite transversal speeds")
+        ):
+            p.sample_next(s0, 1, bad, rng)
+        with pytest.raises(
+            ValueError, match=msg.replace("finite values", "finite transversal speeds")
+        ):
+            p.log_transition(s0, s0, 1, bad)
+    assert f.step_index == 0
+    f.step(o)
+    assert f.step_index == 1
+    f.predict(np.ones(3))
+    assert f.step_index == 2
+    assert p.log_transition(s0, s0, 1, np.array([])) == pytest.approx(3 * math.log(0.9))
+    # the vector forms of the quality model name s and the anchor, not the inner z
+    with pytest.raises(
+        ValueError, match=r"^s: expected conditions in \[0, N_z = 2\), got 2 at anchor 1$"
+    ):
+        q.log_likelihood(np.array([0.5, 0.5]), np.array([0, 2]))
+    with pytest.raises(
+        ValueError, match=r"^s: expected conditions in \[0, N_z = 2\), got 3 at anchor 1$"
+    ):
+        q.sample(np.array([0, 3]), rng)

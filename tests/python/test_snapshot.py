@@ -110,6 +110,19 @@ def test_bad_arguments_raise_value_error():
         snapshot.Cong(st).reset(np.zeros(2))
     with pytest.raises(ValueError, match="sigma_left"):
         snapshot.RowNoise(0.0, -1.0, 1.0)
+    # inf was taken: Chen's weights 1 / inf = 0 gave a NaN fix marked valid, and an infinite step
+    # tolerance ended every solve after one step, reported converged
+    with pytest.raises(ValueError, match=r"^opt\.residual_floor: expected a finite value > 0$"):
+        snapshot.Chen(st, snapshot.ChenOptions(residual_floor=np.inf))
+    gn = snapshot.GaussNewtonOptions(step_tolerance=np.inf)
+    for make in (
+        lambda: snapshot.LosSolver(st, gn),
+        lambda: snapshot.MleLos(st, gn),
+        lambda: snapshot.Chen(st, gauss_newton=gn),
+        lambda: snapshot.Cong(st, gauss_newton=gn),
+    ):
+        with pytest.raises(ValueError, match=r"^opt\.step_tolerance: expected a finite value > 0$"):
+            make()
 
 
 def test_h_scenarios_registered_and_run():

@@ -154,12 +154,14 @@ class ForwardFilter {
   }
   /// Restores a snapshot saved from this filter (or one of the same size). Checked first (the filter is
   /// unchanged on refusal, std::invalid_argument naming the field): gamma and pred B x N_z with rows of
-  /// probabilities summing to 1, k >= 0, a log evidence that is not NaN.
+  /// probabilities summing to 1, k >= 0, a finite log evidence (update() refuses a statistic of zero or
+  /// infinite density, so the filter never holds another).
   void restore(const Snapshot& s) {
     check_probabilities(s.gamma, num_anchors(), num_conditions(), "snapshot.gamma");
     check_probabilities(s.pred, num_anchors(), num_conditions(), "snapshot.pred");
     NLOSLOC_ENSURE(s.k >= 0, "snapshot.k: expected a step index >= 0, got " + std::to_string(s.k));
-    NLOSLOC_ENSURE(!std::isnan(s.log_evidence), "snapshot.log_evidence: expected a number, got NaN");
+    NLOSLOC_ENSURE(std::isfinite(s.log_evidence), "snapshot.log_evidence: expected a finite value, got " +
+                                                      nlosloc::detail::fmt_shortest(s.log_evidence));
     gamma_ = s.gamma;
     pred_ = s.pred;
     k_ = s.k;
@@ -182,16 +184,18 @@ class ForwardFilter {
  private:
   SightProcess process_;
   QualityModel quality_;
-  /// Validates `speeds` for predict(); returns true when the chains need them.
+  /// Validates `speeds` for predict(): required when a chain is speed-dependent, else may be empty, and
+  /// checked whenever given. Returns true when the chains need them.
   bool check_speeds(const Eigen::Ref<const VecX>& speeds) const {
-    if (!process_.speed_dependent()) return false;
+    const bool need = process_.speed_dependent();
+    if (!need && speeds.size() == 0) return false;
     nlosloc::detail::ensure_shape(speeds, num_anchors(), 1, "speeds");
     for (Eigen::Index b = 0; b < speeds.size(); ++b)
       if (!(speeds(b) >= 0.0) || !std::isfinite(speeds(b)))
         nlosloc::detail::throw_invalid_argument("speeds: expected finite values >= 0, got " +
                                                 std::to_string(speeds(b)) + " at anchor " +
                                                 std::to_string(b));
-    return true;
+    return need;
   }
 
   MatX gamma_, pred_, ll_, T_;

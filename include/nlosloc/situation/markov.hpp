@@ -233,7 +233,10 @@ class SightModel {
     }
     switch (form_) {
       case SpeedModel::kSingle: out = speed_transition_single(w, dt_, mean_los_, mean_nlos_); break;
-      case SpeedModel::kMemoryless: out = Q_; break;
+      case SpeedModel::kMemoryless:  // eq. (18) does not depend on w, but w is checked as for (15), (17)
+        nlosloc::detail::ensure_nonnegative(w, "w");
+        out = Q_;
+        break;
       default: out = speed_transition_multiple(w, dt_, mean_los_, mean_nlos_); break;
     }
   }
@@ -255,7 +258,10 @@ class SightModel {
     Mat<2, 2> T;
     switch (form_) {
       case SpeedModel::kSingle: T = speed_transition_single(w, dt_, mean_los_, mean_nlos_); break;
-      case SpeedModel::kMemoryless: T = Q_; break;
+      case SpeedModel::kMemoryless:
+        nlosloc::detail::ensure_nonnegative(w, "w");
+        T = Q_;
+        break;
       default: T = speed_transition_multiple(w, dt_, mean_los_, mean_nlos_); break;
     }
     return detail::sample_row(T.row(current), rng);
@@ -340,11 +346,10 @@ class SightProcess {
     return s;
   }
   /// Draws s_k from s_{k-1} = `current` anchor by anchor (eq. 9); `speeds` are the transversal speeds per
-  /// anchor (size B; may be empty when no model is speed-dependent).
+  /// anchor (size B; may be empty when no model is speed-dependent, and checked whenever given).
   VecXi sample_next(const VecXi& current, long k, const VecX& speeds, Rng& rng) const {
     nlosloc::detail::ensure_shape(current, num_anchors(), 1, "current");
-    const bool need = speed_dependent();
-    if (need) check_speeds(speeds);
+    const bool need = checked_speeds(speeds);
     VecXi s(num_anchors());
     for (int b = 0; b < num_anchors(); ++b)
       s(b) = models_[static_cast<std::size_t>(b)].sample_next(current(b), k, need ? speeds(b) : 0.0, rng);
@@ -355,8 +360,7 @@ class SightProcess {
   double log_transition(const VecXi& from, const VecXi& to, long k, const VecX& speeds) const {
     nlosloc::detail::ensure_shape(from, num_anchors(), 1, "from");
     nlosloc::detail::ensure_shape(to, num_anchors(), 1, "to");
-    const bool need = speed_dependent();
-    if (need) check_speeds(speeds);
+    const bool need = checked_speeds(speeds);
     double l = 0.0;
     MatX T;
     for (int b = 0; b < num_anchors(); ++b) {
@@ -369,13 +373,17 @@ class SightProcess {
   }
 
  private:
-  /// speeds: B transversal speeds, finite and >= 0 (named here, not as the chain's internal w).
-  void check_speeds(const VecX& speeds) const {
+  /// speeds: B transversal speeds, finite and >= 0 (named here, not as the chain's internal w); empty is
+  /// allowed when no chain is speed-dependent. Returns whether the chains read them.
+  bool checked_speeds(const VecX& speeds) const {
+    const bool need = speed_dependent();
+    if (!need && speeds.size() == 0) return false;
     nlosloc::detail::ensure_shape(speeds, num_anchors(), 1, "speeds");
     for (Eigen::Index b = 0; b < speeds.size(); ++b)
       NLOSLOC_ENSURE(std::isfinite(speeds[b]) && speeds[b] >= 0.0,
                      "speeds: expected finite transversal speeds >= 0, got " + std::to_string(speeds[b]) +
                          " at anchor " + std::to_string(b));
+    return need;
   }
 
   static std::size_t checked_anchors(int num_anchors) {

@@ -78,6 +78,7 @@ class QualityModel {
   /// log p(o | s) = sum_b log p(o_b | s_b) (anchors independent given s).
   double log_likelihood(const Eigen::Ref<const VecX>& o, const Eigen::Ref<const VecXi>& s) const {
     NLOSLOC_ENSURE(o.size() == s.size(), "o, s: expected the same number of anchors");
+    check_situation(s);
     double l = 0.0;
     for (Eigen::Index b = 0; b < o.size(); ++b) l += log_likelihood(o(b), s(b));
     return l;
@@ -86,12 +87,21 @@ class QualityModel {
   double sample(int z, Rng& rng) const { return distribution(z).sample(rng); }
   /// Draws one statistic per anchor for the situation vector s.
   VecX sample(const Eigen::Ref<const VecXi>& s, Rng& rng) const {
+    check_situation(s);
     VecX o(s.size());
     for (Eigen::Index b = 0; b < s.size(); ++b) o(b) = sample(s(b), rng);
     return o;
   }
 
  private:
+  /// Every s_b in [0, N_z), named by the argument and anchor (distribution() would name its own z).
+  void check_situation(const Eigen::Ref<const VecXi>& s) const {
+    for (Eigen::Index b = 0; b < s.size(); ++b)
+      NLOSLOC_ENSURE(s(b) >= 0 && s(b) < num_conditions(),
+                     "s: expected conditions in [0, N_z = " + std::to_string(num_conditions()) + "), got " +
+                         std::to_string(s(b)) + " at anchor " + std::to_string(b));
+  }
+
   std::vector<Dist> d_;
 };
 

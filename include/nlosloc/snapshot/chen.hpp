@@ -46,7 +46,9 @@ class Chen {
                                                        std::to_string(min_size));
     NLOSLOC_ENSURE(opt.reject_fraction >= 0.0 && opt.reject_fraction < 1.0,
                    "opt.reject_fraction: expected a value in [0, 1)");
-    NLOSLOC_ENSURE(opt.residual_floor > 0.0, "opt.residual_floor: expected > 0");
+    // inf would make every weight 1 / inf = 0, and the combined fix 0 / 0
+    NLOSLOC_ENSURE(std::isfinite(opt.residual_floor) && opt.residual_floor > 0.0,
+                   "opt.residual_floor: expected a finite value > 0");
     subsets_ = subsets_at_least(B, min_size);
     start_.assign(subsets_.size(), Theta());
     fixes_.resize(subsets_.size());

@@ -116,7 +116,9 @@ class LosSolver {
   explicit LosSolver(const MeasurementStack& stack, const GaussNewtonOptions& opt = {})
       : stack_(stack), opt_(opt) {
     NLOSLOC_ENSURE(opt.max_iterations >= 1, "opt.max_iterations: expected >= 1");
-    NLOSLOC_ENSURE(opt.step_tolerance > 0.0, "opt.step_tolerance: expected > 0");
+    // inf would end every solve after one step, reported converged
+    NLOSLOC_ENSURE(std::isfinite(opt.step_tolerance) && opt.step_tolerance > 0.0,
+                   "opt.step_tolerance: expected a finite value > 0");
     NLOSLOC_ENSURE(opt.initial_damping >= 0.0 && opt.max_damping > opt.initial_damping,
                    "opt.initial_damping / max_damping: expected 0 <= initial < max");
     stack.check_ready();
