@@ -94,7 +94,8 @@ void define_module(py::module_& m) {
           "is given).")
       .def(
           "normals",
-          [](Rng& r, py::ssize_t n) {
+          [](Rng& r, const bind::StrictArg<py::ssize_t>& n_in) {
+            const py::ssize_t n = n_in.get("n");
             if (n < 0) throw std::invalid_argument("n: expected >= 0");
             py::array_t<double> out(n);
             auto v = out.mutable_unchecked<1>();
@@ -104,7 +105,8 @@ void define_module(py::module_& m) {
           py::arg("n"), "Array of `n` standard normal draws, shape (n,).")
       .def(
           "below",
-          [](Rng& r, std::uint64_t n) {
+          [](Rng& r, const bind::StrictArg<std::uint64_t>& n_in) {
+            const std::uint64_t n = n_in.get("n");
             NLOSLOC_ENSURE(n >= 1, "n: expected an integer >= 1, got 0");  // [0, 0) is empty
             return r.below(n);
           },
@@ -126,7 +128,8 @@ void define_module(py::module_& m) {
            "Lanes derived from `parent` by jumps (default Rng(): seed 0, stream 0, as C++ BatchRng()).")
       .def(
           "bits",
-          [](BatchRng& r, py::ssize_t n_quads) {
+          [](BatchRng& r, const bind::StrictArg<py::ssize_t>& n_in) {
+            const py::ssize_t n_quads = n_in.get("n_quads");
             if (n_quads < 0 || n_quads > (py::ssize_t{1} << 28))
               throw std::invalid_argument("n_quads: expected 0 <= n_quads <= 2^28, got " +
                                           std::to_string(n_quads));
@@ -138,7 +141,8 @@ void define_module(py::module_& m) {
           "4 * n_quads raw words, shape (4 n_quads,): word 4 j + l is lane l's j-th output.")
       .def(
           "uniforms",
-          [](BatchRng& r, py::ssize_t n) {
+          [](BatchRng& r, const bind::StrictArg<py::ssize_t>& n_in) {
+            const py::ssize_t n = n_in.get("n");
             if (n < 0 || n % BatchRng::kLanes != 0 || n > (py::ssize_t{1} << 30))
               throw std::invalid_argument("n: expected a multiple of 4 in [0, 2^30], got " +
                                           std::to_string(n));
@@ -149,7 +153,8 @@ void define_module(py::module_& m) {
           py::arg("n"), "n uniforms in (0, 1) with 52 random bits each, n a multiple of 4; shape (n,).")
       .def(
           "normals",
-          [](BatchRng& r, py::ssize_t n) {
+          [](BatchRng& r, const bind::StrictArg<py::ssize_t>& n_in) {
+            const py::ssize_t n = n_in.get("n");
             if (n < 0 || n > (py::ssize_t{1} << 30))
               throw std::invalid_argument("n: expected 0 <= n <= 2^30, got " + std::to_string(n));
             py::array_t<double> out(n);

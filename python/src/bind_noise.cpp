@@ -11,6 +11,7 @@
 #include <string>
 
 #include "bind.hpp"
+#include "field_value.hpp"
 #include "motion_arg.hpp"
 #include "nlosloc/core/random.hpp"
 #include "nlosloc/models/noise.hpp"
@@ -181,7 +182,7 @@ mean : float
 std : float
     Standard deviation > 0 (unit of x).
 )doc");
-  normal.def(py::init<double, double>(), py::arg("mean"), py::arg("std"))
+  normal.def(bind::strict_init<Normal, double, double>("mean", "std"), py::arg("mean"), py::arg("std"))
       .def_property_readonly("std", &Normal::stddev, "Standard deviation.")
       .def(py::pickle([](const Normal& d) { return py::make_tuple(d.mean(), d.stddev()); },
                       [](const py::tuple& t) { return Normal(t[0].cast<double>(), t[1].cast<double>()); }));
@@ -198,7 +199,7 @@ Parameters
 scale : float
     Scale s > 0 (unit of x).
 )doc");
-  rayleigh.def(py::init<double>(), py::arg("scale"))
+  rayleigh.def(bind::strict_init<Rayleigh, double>("scale"), py::arg("scale"))
       .def_static("from_variance", &Rayleigh::from_variance, py::arg("variance"),
                   R"doc(Rayleigh with the given variance: scale = sqrt(2 variance / (4 - pi)).
 
@@ -226,7 +227,7 @@ Parameters
 mean : float
     Mean m > 0 (unit of x); the rate is 1/m. Also returned by ``mean()``.
 )doc");
-  exponential.def(py::init<double>(), py::arg("mean"))
+  exponential.def(bind::strict_init<Exponential, double>("mean"), py::arg("mean"))
       .def(py::pickle([](const Exponential& d) { return py::make_tuple(d.mean()); },
                       [](const py::tuple& t) { return Exponential(t[0].cast<double>()); }));
   def_common<Exponential>(exponential);
@@ -249,7 +250,8 @@ loc : float
 scale : float
     Scale sigma > 0 (unit of x).
 )doc");
-  gev.def(py::init<double, double, double>(), py::arg("shape"), py::arg("loc"), py::arg("scale"))
+  gev.def(bind::strict_init<Gev, double, double, double>("shape", "loc", "scale"), py::arg("shape"),
+          py::arg("loc"), py::arg("scale"))
       .def_property_readonly("shape", &Gev::shape, "Shape k (k > 0: heavy upper tail).")
       .def_property_readonly("loc", &Gev::loc, "Location mu.")
       .def_property_readonly("scale", &Gev::scale, "Scale sigma.")
@@ -278,8 +280,9 @@ upper : float
     Upper bound > lower, may be inf.
 )doc");
   truncated
-      .def(py::init<double, double, double, double>(), py::arg("mu"), py::arg("sigma"), py::arg("lower"),
-           py::arg("upper"))
+      .def(
+          bind::strict_init<TruncatedNormal, double, double, double, double>("mu", "sigma", "lower", "upper"),
+          py::arg("mu"), py::arg("sigma"), py::arg("lower"), py::arg("upper"))
       .def_property_readonly("mu", &TruncatedNormal::mu, "Mean of the parent normal.")
       .def_property_readonly("sigma", &TruncatedNormal::sigma, "Standard deviation of the parent normal.")
       .def_property_readonly("lower", &TruncatedNormal::lower, "Lower bound.")
@@ -305,7 +308,8 @@ shift : float
 std : float
     Standard deviation > 0 (unit of x).
 )doc");
-  shifted.def(py::init<double, double>(), py::arg("shift"), py::arg("std"))
+  shifted
+      .def(bind::strict_init<ShiftedNormal, double, double>("shift", "std"), py::arg("shift"), py::arg("std"))
       .def_property_readonly("shift", &ShiftedNormal::shift, "Mean shift (bias).")
       .def_property_readonly("std", &ShiftedNormal::stddev, "Standard deviation.")
       .def(py::pickle(
@@ -329,7 +333,8 @@ sigma_left : float
 sigma_right : float
     Standard deviation right of the mode, > 0.
 )doc");
-  asym.def(py::init<double, double, double>(), py::arg("mode"), py::arg("sigma_left"), py::arg("sigma_right"))
+  asym.def(bind::strict_init<AsymmetricNormal, double, double, double>("mode", "sigma_left", "sigma_right"),
+           py::arg("mode"), py::arg("sigma_left"), py::arg("sigma_right"))
       .def_static(
           "fit", [](const bind::VecArg& samples) { return AsymmetricNormal::fit(samples.get("samples")); },
           py::arg("samples"),
@@ -371,7 +376,7 @@ a : float
 b : float
     Second shape parameter > 0.
 )doc");
-  beta.def(py::init<double, double>(), py::arg("a"), py::arg("b"))
+  beta.def(bind::strict_init<Beta, double, double>("a", "b"), py::arg("a"), py::arg("b"))
       .def_property_readonly("a", &Beta::a, "First shape parameter.")
       .def_property_readonly("b", &Beta::b, "Second shape parameter.")
       .def(py::pickle([](const Beta& d) { return py::make_tuple(d.a(), d.b()); },

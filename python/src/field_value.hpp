@@ -1,7 +1,8 @@
 #pragma once
 /// \file field_value.hpp
 /// Strict conversion of one Python value to a C++ scalar or registered type, with errors that name the
-/// receiver: the option and parameter fields (`QpBiasEkfOptions.gamma`) and the time arguments (`t0`).
+/// receiver: the option and parameter fields (`QpBiasEkfOptions.gamma`), and through StrictArg the time
+/// arguments (`t0`), sizes (`n`) and the scalar arguments of some constructors (`Normal(mean, std)`).
 /// pybind11's own casters, used by def_readwrite and plain double/int arguments, take None and 0.5 as
 /// False for a bool field, True as 1.0 for a float, and refuse a wrong type with "incompatible function
 /// arguments" (TypeError) that shows the signature but not the field. Here a bool is a bool (True, False,
@@ -11,12 +12,15 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
 #include <type_traits>
 #include <typeinfo>
+#include <utility>
 
 namespace nlosloc::bind {
 
@@ -40,8 +44,8 @@ inline py::object unwrap_0d(py::handle v, const std::string& what, const char* e
   if (!py::isinstance<py::array>(v)) return py::reinterpret_borrow<py::object>(v);
   const auto a = py::reinterpret_borrow<py::array>(v);
   if (a.ndim() != 0)
-    throw py::type_error(what + ": expected " + expected + ", got an array of " + std::to_string(a.ndim()) +
-                         " dimensions");
+    throw py::type_error(what + ": expected " + expected + ", got a " + std::to_string(a.ndim()) +
+                         "-D array");
   return a.attr("item")();
 }
 
@@ -135,6 +139,21 @@ struct StrictArg {
   pybind11::object obj;
   T get(const char* name) const { return field_value<T>(obj, name); }
 };
+
+namespace field_detail {
+template <class T, class... A, std::size_t... I>
+auto strict_init(std::array<const char*, sizeof...(A)> names, std::index_sequence<I...>) {
+  return pybind11::init([names](const StrictArg<A>&... a) { return T(a.get(names[I])...); });
+}
+}  // namespace field_detail
+
+/// py::init of T from its constructor's arguments A..., each converted by StrictArg under its name:
+/// strict_init<Normal, double, double>("mean", "std"). T's constructor checks the values.
+template <class T, class... A, class... Names>
+auto strict_init(Names... names) {
+  static_assert(sizeof...(A) == sizeof...(Names), "one name per argument");
+  return field_detail::strict_init<T, A...>({names...}, std::index_sequence_for<A...>{});
+}
 
 /// An optional StrictArg's value (nullopt for None).
 template <class T>

@@ -9,7 +9,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from nlosloc import core, filters, mitigation, models, rbpf, snapshot
+from nlosloc import core, filters, mitigation, models, noise, rbpf, snapshot
 from nlosloc._pickle import _PARAMS, _field_names
 from test_filters_api import MOTION, P0, X0, stack
 from test_rbpf import MOTION as MOTION6
@@ -61,7 +61,7 @@ def test_bool_fields(cls, name):
     for v in (None, 0.5, 1, 0, "yes", np.float64(1.0), np.array([True])):
         msg = r"expected a bool \(True or False\), got "
         if isinstance(v, np.ndarray):
-            msg = r"expected a bool \(True or False\), got an array of 1 dimensions"
+            msg = r"expected a bool \(True or False\), got a 1-D array"
         refused(o, name, v, TypeError, msg)
     for v, want in ((False, False), (True, True), (np.bool_(False), False), (np.array(True), True)):
         setattr(o, name, v)
@@ -181,3 +181,49 @@ def test_time_arguments_are_real_numbers():
         s.predict(X0, t=None)
     np.testing.assert_array_equal(s.predict(X0, t=0), s.predict(X0))
     assert isinstance(models.StateLayout().dim, int)
+
+
+def test_distribution_constructors_and_sizes_are_strict():
+    # pybind11 took Normal(0.0, True) as std 1 and refused Normal("0", 1.0) without a name
+    makers = (
+        (noise.Normal, ("mean", "std"), (0.0, 2.0)),
+        (noise.Rayleigh, ("scale",), (2.0,)),
+        (noise.Exponential, ("mean",), (2.0,)),
+        (noise.Gev, ("shape", "loc", "scale"), (0.1, 0.0, 2.0)),
+        (noise.TruncatedNormal, ("mu", "sigma", "lower", "upper"), (0.0, 1.0, -1.0, 2.0)),
+        (noise.ShiftedNormal, ("shift", "std"), (1.0, 2.0)),
+        (noise.AsymmetricNormal, ("mode", "sigma_left", "sigma_right"), (0.0, 1.0, 2.0)),
+        (noise.Beta, ("a", "b"), (2.0, 3.0)),
+    )
+    for cls, names, good in makers:
+        assert repr(cls(*good)) == repr(cls(*[np.float32(v) if v != 0.1 else v for v in good]))
+        for i, name in enumerate(names):
+            for bad, shown in (
+                (True, r"True \(bool\)"),
+                ("1", r"'1' \(str\)"),
+                (1j, r"1j \(complex\)"),
+            ):
+                args = list(good)
+                args[i] = bad
+                with pytest.raises(
+                    TypeError, match=rf"^{name}: expected a real number, got {shown}$"
+                ):
+                    cls(*args)
+    r = core.Rng(4)
+    for call, name in (
+        (r.normals, "n"),
+        (r.below, "n"),
+        (core.BatchRng(r).bits, "n_quads"),
+        (core.BatchRng(r).uniforms, "n"),
+        (core.BatchRng(r).normals, "n"),
+    ):
+        for bad in (True, 4.0, None):
+            with pytest.raises(TypeError, match=rf"^{name}: expected an integer, got "):
+                call(bad)
+        with pytest.raises(ValueError, match=rf"^{name}: expected an integer in \["):
+            call(2**70)
+    with pytest.raises(
+        ValueError, match=r"^n: expected an integer in \[0, 18446744073709551615\], got -1$"
+    ):
+        r.below(-1)
+    assert core.Rng(4).normals(np.int64(3)).shape == (3,)
