@@ -409,10 +409,14 @@ def ecdf(errors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     x : numpy.ndarray
         Sorted errors.
     p : numpy.ndarray
-        ``p[i] = (i + 1) / n``, the fraction of errors at most ``x[i]``.
+        The fraction of errors at most ``x[i]`` (tied errors share the largest rank; a NaN, sorted
+        last, keeps its own rank ``i + 1``), as ``sim.ecdf``.
     """
     x = np.sort(np.asarray(errors, dtype=float).ravel())
-    p = np.arange(1, x.size + 1, dtype=float) / max(x.size, 1)
+    rank = np.searchsorted(x, x, side="right")
+    nan = np.isnan(x)
+    rank[nan] = np.flatnonzero(nan) + 1
+    p = rank.astype(float) / max(x.size, 1)
     return x, p
 
 

@@ -205,8 +205,13 @@ void define_module(py::module_& m) {
            "Raises ValueError (naming the parameter) unless the scheme gives valid weights for dimension n.")
       .def("weights", &SigmaScheme::weights, py::arg("n"), "Weights for an n-dimensional variable.")
       .def("__eq__",
-           [](const SigmaScheme& a, const SigmaScheme& b) {
-             return a.kind == b.kind && a.alpha == b.alpha && a.beta == b.beta && a.kappa == b.kappa;
+           [](const SigmaScheme& a, const py::object& other) -> py::object {
+             // NotImplemented for another type, so `scheme == None` is False (it raised TypeError)
+             if (!py::isinstance<SigmaScheme>(other))
+               return py::reinterpret_borrow<py::object>(Py_NotImplemented);
+             const auto& b = other.cast<const SigmaScheme&>();
+             return py::bool_(a.kind == b.kind && a.alpha == b.alpha && a.beta == b.beta &&
+                              a.kappa == b.kappa);
            })
       // Equal schemes hash alike (defining __eq__ alone leaves a pybind11 class unhashable).
       .def("__hash__", [](const SigmaScheme& s) {
@@ -217,6 +222,11 @@ void define_module(py::module_& m) {
       "sigma_points",
       [](const VecX& mean, const MatX& cov, const SigmaScheme& scheme) {
         detail::ensure_shape(cov, mean.size(), mean.size(), "cov");
+        detail::ensure_finite(mean, "mean");
+        // robust_cholesky factors the symmetric part, so a non-symmetric cov would pass as another matrix
+        if (detail::symmetric_scale(cov, 1e-9) == 0.0)
+          throw std::invalid_argument(
+              "cov: expected a finite symmetric matrix (to 1e-9 of its largest entry)");
         const SigmaWeights w = scheme.weights(static_cast<int>(mean.size()));
         MatX L(mean.size(), mean.size());
         if (robust_cholesky(cov, L) == CholeskyStatus::kFailed)

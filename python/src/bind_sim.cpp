@@ -79,29 +79,32 @@ py::dict scenario_info(const std::string& name) {
 }
 
 py::dict draw_dict(const sim::Scenario& s, const std::string& case_name, const UInt64Arg& seed,
-                   const UInt64Arg& run, std::optional<int> steps) {
+                   const UInt64Arg& run, const std::optional<nlosloc::bind::StrictArg<int>>& steps) {
   return nlosloc::bind::draw_to_dict(s.draw(case_name, seed.get("seed"), run.get("run"), steps_arg(steps)));
 }
 
 py::dict draw(const std::string& name, const std::string& case_name, const UInt64Arg& seed,
-              const UInt64Arg& run, std::optional<int> steps) {
+              const UInt64Arg& run, const std::optional<nlosloc::bind::StrictArg<int>>& steps) {
   return draw_dict(sim::registry().scenario(name), case_name, seed, run, steps);
 }
 
 /// Runs `estimators` on `s`, which may be a scenario built with custom parameters: registered names (default
 /// all registered under the scenario's name; their factories take any H1 / H2) and Python estimators
 /// (py_estimator.hpp).
-py::dict run_monte_carlo(const std::shared_ptr<sim::Scenario>& s, const std::string& case_name, int runs,
-                         const UInt64Arg& seed, const std::optional<py::sequence>& estimators, int threads,
-                         std::optional<int> steps, const py::object& progress, const UInt64Arg& first_run) {
+py::dict run_monte_carlo(const std::shared_ptr<sim::Scenario>& s, const std::string& case_name,
+                         const nlosloc::bind::StrictArg<int>& runs, const UInt64Arg& seed,
+                         const std::optional<py::sequence>& estimators,
+                         const nlosloc::bind::StrictArg<int>& threads,
+                         const std::optional<nlosloc::bind::StrictArg<int>>& steps,
+                         const py::object& progress, const UInt64Arg& first_run) {
   const bool has_progress = !progress.is_none();
   if (has_progress && !PyCallable_Check(progress.ptr()))
     throw py::type_error("progress: expected a callable progress(done, total) or None");
   sim::MonteCarloOptions opt;
-  opt.runs = runs;
+  opt.runs = runs.get("runs");
   opt.seed = seed.get("seed");
   opt.first_run = first_run.get("first_run");
-  opt.threads = threads;
+  opt.threads = threads.get("threads");
   opt.steps = steps_arg(steps);
   // Both callbacks run on this (the calling) thread and take the GIL only while they call into Python;
   // they capture `progress` by reference, so copying them never touches reference counts without the GIL.
@@ -434,9 +437,11 @@ dict
 
   m.def(
       "run_monte_carlo",
-      [](const std::string& name, const std::string& case_name, int runs, const UInt64Arg& seed,
-         const std::optional<py::sequence>& estimators, int threads, std::optional<int> steps,
-         const py::object& progress, const UInt64Arg& first_run) {
+      [](const std::string& name, const std::string& case_name, const nlosloc::bind::StrictArg<int>& runs,
+         const UInt64Arg& seed, const std::optional<py::sequence>& estimators,
+         const nlosloc::bind::StrictArg<int>& threads,
+         const std::optional<nlosloc::bind::StrictArg<int>>& steps, const py::object& progress,
+         const UInt64Arg& first_run) {
         return run_monte_carlo(registered_scenario(name), case_name, runs, seed, estimators, threads, steps,
                                progress, first_run);
       },

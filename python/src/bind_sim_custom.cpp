@@ -89,11 +89,17 @@ class CustomScenario final : public sim::Scenario {
     d.quality = matrix("quality", B, false);
     if (!d.states.allFinite() || !d.positions.allFinite())
       throw py::value_error("generate: 'states' and 'positions': expected finite values");
-    for (Eigen::Index k = 0; k < T; ++k)  // NaN = missing; inf is an error, as for every filter
-      for (Eigen::Index i = 0; i < m; ++i)
-        if (std::isinf(d.y(k, i)))
-          throw py::value_error("generate: 'y': expected finite values or NaN (missing), got inf at (" +
-                                std::to_string(k) + ", " + std::to_string(i) + ")");
+    // NaN = missing; inf is an error, as for every filter (the quality statistics too: they were let through)
+    const auto finite_or_missing = [](const char* key, const sim::RowMatX& v) {
+      for (Eigen::Index k = 0; k < v.rows(); ++k)
+        for (Eigen::Index i = 0; i < v.cols(); ++i)
+          if (std::isinf(v(k, i)))
+            throw py::value_error(std::string("generate: '") + key +
+                                  "': expected finite values or NaN (missing), got inf at (" +
+                                  std::to_string(k) + ", " + std::to_string(i) + ")");
+    };
+    finite_or_missing("y", d.y);
+    finite_or_missing("quality", d.quality);
     if (!dict.contains("sight")) throw py::value_error("generate: 'sight': missing");
     int ndim = 0;
     const auto sight = nlosloc::bind::to_int_rows(dict["sight"], "generate: 'sight'", &ndim);
@@ -157,8 +163,7 @@ void bind_sim_custom(py::module_& m) {
         return std::visit(
             [&](const auto& mo) {
               using Mo = std::decay_t<decltype(mo)>;
-              const auto g =
-                  sim::backdate(mo, nlosloc::bind::to_gaussian<Mo::kDim>(mean, cov, "mean", "cov"));
+              const auto g = sim::backdate(mo, nlosloc::bind::to_belief<Mo::kDim>(mean, cov, "mean", "cov"));
               return py::make_tuple(VecX(g.mean), MatX(g.cov));
             },
             nlosloc::bind::to_motion(motion));

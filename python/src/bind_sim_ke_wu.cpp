@@ -228,21 +228,23 @@ void bind_k2_study(py::module_& m) {
 
   // Both overloads: the specs (which may hold Python estimators) are made with the GIL held and the
   // study runs without it (a Python estimator takes it for each call).
-  const auto study = [](const std::shared_ptr<sim::K2>& scenario, int runs,
-                        const nlosloc::bind::UInt64Arg& seed, std::optional<int> steps,
-                        const std::optional<py::sequence>& estimators,
-                        const nlosloc::bind::UInt64Arg& first_run) {
-    const std::uint64_t s = seed.get("seed");
-    const std::uint64_t f = first_run.get("first_run");
-    const int t = nlosloc::bind::steps_arg(steps);
-    const std::vector<sim::EstimatorSpec> specs =
-        nlosloc::bind::estimator_specs(python_registry(), scenario, estimators);
-    py::gil_scoped_release release;
-    return sim::run_k2_study(*scenario, runs, s, t, specs, f);
-  };
+  const auto study =
+      [](const std::shared_ptr<sim::K2>& scenario, const nlosloc::bind::StrictArg<int>& runs,
+         const nlosloc::bind::UInt64Arg& seed, const std::optional<nlosloc::bind::StrictArg<int>>& steps,
+         const std::optional<py::sequence>& estimators, const nlosloc::bind::UInt64Arg& first_run) {
+        const std::uint64_t s = seed.get("seed");
+        const std::uint64_t f = first_run.get("first_run");
+        const int t = nlosloc::bind::steps_arg(steps);
+        const std::vector<sim::EstimatorSpec> specs =
+            nlosloc::bind::estimator_specs(python_registry(), scenario, estimators);
+        const int n = runs.get("runs");
+        py::gil_scoped_release release;
+        return sim::run_k2_study(*scenario, n, s, t, specs, f);
+      };
   m.def(
       "run_k2_study",
-      [study](int runs, const nlosloc::bind::UInt64Arg& seed, std::optional<int> steps,
+      [study](const nlosloc::bind::StrictArg<int>& runs, const nlosloc::bind::UInt64Arg& seed,
+              const std::optional<nlosloc::bind::StrictArg<int>>& steps,
               const std::optional<py::sequence>& estimators, const nlosloc::bind::UInt64Arg& first_run) {
         auto k2 = std::dynamic_pointer_cast<sim::K2>(registered_scenario("K2"));
         if (!k2) throw std::logic_error("run_k2_study: the registry's K2 is not a sim::K2");

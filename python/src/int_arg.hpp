@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "field_value.hpp"
+
 namespace nlosloc::bind {
 
 struct UInt64Arg {
@@ -48,7 +50,8 @@ struct IndexArg {
 
 /// The `steps` argument of the sim functions: None is the scenario's default (0 inside C++); a number must
 /// be >= 1, since 0 given explicitly is a mistake rather than a request for the default.
-inline int steps_arg(std::optional<int> steps) {
+inline int steps_arg(const std::optional<nlosloc::bind::StrictArg<int>>& steps_in) {
+  const std::optional<int> steps = optional_get(steps_in, "steps");  // an int, not True (field_value.hpp)
   if (steps && *steps < 1)
     throw std::invalid_argument("steps: expected >= 1 (None: the scenario's default), got " +
                                 std::to_string(*steps));

@@ -58,13 +58,15 @@ py::object method(const py::object& obj, const char* m, const std::string& name,
 class PythonEstimator final : public sim::Estimator {
  public:
   /// With the GIL held.
-  PythonEstimator(std::string name, const py::object& obj, Eigen::Index dim, Eigen::Index anchors)
+  PythonEstimator(std::string name, const py::object& obj, Eigen::Index dim, Eigen::Index anchors,
+                  int conditions)
       : name_(std::move(name)),
         obj_(obj),
         reset_(method(obj, "reset", name_, "reset(draw, rng)")),
         step_(method(obj, "step", name_, "step(k, y, o)")),
         dim_(dim),
-        anchors_(anchors) {
+        anchors_(anchors),
+        conditions_(conditions) {
     if (py::hasattr(obj, "sight_estimate"))
       sight_ = method(obj, "sight_estimate", name_, "sight_estimate() (or no attribute of that name)");
     // Keeps this (worker) thread's Python thread state until the destructor: without it every call's
@@ -125,10 +127,10 @@ class PythonEstimator final : public sim::Estimator {
                             " integer conditions (0 = LOS), one per anchor");
     for (py::ssize_t b = 0; b < a.size(); ++b) {
       const long long v = a.data()[b];
-      if (v < 0 || v > std::numeric_limits<int>::max())
+      if (v < 0 || v >= conditions_)  // as CustomScenario's sight: a condition the scenario has
         throw py::value_error("estimators: sight_estimate() of '" + name_ + "' returned condition " +
                               std::to_string(v) + " for anchor " + std::to_string(b) +
-                              "; expected an integer >= 0 (0 = LOS)");
+                              "; expected an integer in [0, " + std::to_string(conditions_) + ") (0 = LOS)");
       out[b] = static_cast<int>(v);
     }
   }
@@ -137,6 +139,7 @@ class PythonEstimator final : public sim::Estimator {
   std::string name_;
   py::object obj_, reset_, step_, sight_;
   Eigen::Index dim_, anchors_;
+  int conditions_;  ///< N_z of the scenario: sight_estimate() values in [0, N_z)
   std::thread::id owner_ = std::this_thread::get_id();  // the runner makes and drops it on one worker
 };
 
@@ -309,7 +312,8 @@ std::vector<sim::EstimatorSpec> estimator_specs(const sim::Registry& reg,
                              "estimators: the factory of '" + name +
                              "' returned a Python estimator; a sight policy goes with an Ekf, Ukf or "
                              "UkfAugmented of nlosloc.filters only");
-                       return std::make_unique<PythonEstimator>(name, obj, dim, anchors);
+                       return std::make_unique<PythonEstimator>(name, obj, dim, anchors,
+                                                                sc.measurements().num_conditions());
                      }});
   }
   return specs;

@@ -66,6 +66,12 @@ TEST_CASE("sigma scheme rejects bad parameters", "[core][sigma]") {
   CHECK_THROWS_WITH(SigmaScheme::scaled(1.0, 2.0, -5.0).weights(4), Catch::Contains("kappa"));
   CHECK_THROWS_WITH(SigmaScheme::julier(-4.0).weights(4), Catch::Contains("kappa"));
   CHECK_THROWS_AS(SigmaScheme::scaled(std::nan("")).weights(4), std::invalid_argument);
+  // eq. (52) has no kappa: -10 was refused and +10 silently ignored; both are refused now
+  for (const double kappa : {-10.0, 10.0})
+    CHECK_THROWS_WITH((SigmaScheme{SigmaScheme::Kind::kHuerta, 0.5, 2.0, kappa}.weights(4)),
+                      Catch::StartsWith("sigma scheme: kappa: expected 0 for the Huerta rule (eq. 52)"));
+  CHECK(SigmaScheme::huerta(0.5).weights(4).wi ==
+        SigmaScheme{SigmaScheme::Kind::kScaled, 0.5, 2.0, 0.0}.weights(4).wi);
 }
 
 TEST_CASE("robust Cholesky reports its fallback", "[core][cholesky]") {
@@ -89,6 +95,24 @@ TEST_CASE("robust Cholesky reports its fallback", "[core][cholesky]") {
   CHECK(robust_cholesky(C, L) == CholeskyStatus::kFailed);
   CHECK_FALSE(is_spd(C));
   CHECK(is_spd(A));
+  // 0 x 0 is positive definite (vacuously): Eigen's min/maxCoeff on it were undefined (a crash)
+  const MatX E(0, 0);
+  MatX LE(3, 3);
+  CHECK(robust_cholesky(E, LE) == CholeskyStatus::kOk);
+  CHECK(LE.size() == 0);
+  CHECK(is_spd(E));
+  CHECK(is_spsd(E));
+  // the tolerance is checked: NaN passed a non-symmetric matrix, a negative one failed the identity
+  Mat<2, 2> N;
+  N << 2, 1, 0, 2;
+  const Mat<2, 2> I = Mat<2, 2>::Identity();
+  for (const double tol : {std::nan(""), -1.0, std::numeric_limits<double>::infinity()}) {
+    CHECK_THROWS_WITH(is_spd(N, tol), Catch::StartsWith("rel_tol: expected a finite value >= 0, got "));
+    CHECK_THROWS_WITH(is_spsd(I, tol), Catch::StartsWith("rel_tol: expected a finite value >= 0, got "));
+  }
+  CHECK_FALSE(is_spd(N));
+  CHECK_FALSE(is_spsd(N, 0.1));
+  CHECK(is_spsd(N, 0.5));  // asymmetry |1 - 0| = 1 <= 0.5 max|N|
 }
 
 TEST_CASE("log-sum-exp is exact and stable", "[core][logsumexp]") {

@@ -305,3 +305,18 @@ TEST_CASE("H2 Huerta estimators: IUKF and rRBPF-16, seeded accuracy and ordering
   CHECK(r.estimator("rRBPF-16").sight_anchor_accuracy.mean() > 0.99);
   CHECK(r.estimator("IUKF").sight_anchor_accuracy.mean() > 0.98);
 }
+
+TEST_CASE("backdate inverts one prediction and refuses what is not a belief", "[h-scenarios]") {
+  const ConstantVelocity2 mo(0.5, 2.0);
+  const Gaussian<4> b(Vec<4>(1.0, 2.0, 3.0, 4.0), Mat<4, 4>(Vec<4>(100.0, 100.0, 25.0, 25.0).asDiagonal()));
+  const Gaussian<4> a = backdate(mo, b);  // F a.mean = b.mean, F a.cov F^T + Q = b.cov
+  CHECK((mo.F() * a.mean - b.mean).cwiseAbs().maxCoeff() < 1e-12);
+  CHECK((mo.F() * a.cov * mo.F().transpose() + mo.Q() - b.cov).cwiseAbs().maxCoeff() < 1e-9);
+  // a NaN mean came back all NaN, and -P as a start (the fallback returns b itself)
+  Gaussian<4> bad = b;
+  bad.mean(2) = std::nan("");
+  CHECK_THROWS_WITH(backdate(mo, bad), "belief.mean: expected finite values (no NaN or inf)");
+  bad = b;
+  bad.cov = -b.cov;
+  CHECK_THROWS_WITH(backdate(mo, bad), "belief.cov: expected a symmetric positive definite matrix");
+}

@@ -223,6 +223,10 @@ TEST_CASE("K2 study of a custom K2 with estimators given as factories", "[sim][k
   CHECK((tail.estimators[0].position_error - tail_mean).cwiseAbs().maxCoeff() < 1e-9);
   CHECK((tail.estimators[0].position_error - st.estimators[0].position_error).cwiseAbs().maxCoeff() > 1e-3);
   CHECK_THAT(format_k2_study(tail), StartsWith("K2 study: 2 runs (runs 1..2) x 160 steps"));
+  // as run_monte_carlo: no step after the discarded ones (it printed all-NaN statistics)
+  const std::string d = std::to_string(s.discard());
+  CHECK_THROWS_WITH(run_k2_study(s, 2, 5, s.discard(), {ekf}),
+                    "steps: expected more than the scenario's " + d + " discarded first steps, got " + d);
   CHECK_THROWS_WITH(
       run_k2_study(s, 2, 5, T, {ekf}, std::numeric_limits<std::uint64_t>::max()),
       "first_run: expected first_run + runs - 1 <= 2^64 - 1, got first_run 18446744073709551615 "

@@ -98,6 +98,12 @@ TEST_CASE("percentile interpolates linearly between closest ranks like numpy", "
   CHECK(percentile({1.0, 3.0, inf}, 100) == inf);
   CHECK(percentile({inf, inf}, 30) == inf);
   CHECK(percentile({1.0, 3.0, inf}, 75) == inf);  // between 3 and inf
+  // between -inf and a finite rank: -inf (a + (b - a) t was -inf + inf = NaN)
+  const auto lo = percentiles({-inf, 1.0, 2.0}, {0, 25, 50});
+  CHECK(lo[0] == -inf);
+  CHECK(lo[1] == -inf);
+  CHECK(lo[2] == 1.0);
+  CHECK(percentile({-inf, inf}, 50) == -inf);
 }
 
 TEST_CASE("ecdf sorts and assigns rank / n, subsampling keeps both ends", "[sim][metrics]") {
@@ -114,6 +120,16 @@ TEST_CASE("ecdf sorts and assigns rank / n, subsampling keeps both ends", "[sim]
   CHECK(s.p.back() == 1.0);
   CHECK(ecdf(v, 1000).x.size() == 101);
   CHECK_THROWS_AS(ecdf(v, 1), std::invalid_argument);
+  // tied values: p = P(error <= x) counts every tie (it was the rank of each, 0.4 at the first 2)
+  const Ecdf t = ecdf({3.0, 1.0, 2.0, 2.0, 5.0, std::nan("")});
+  REQUIRE(t.p.size() == 6);
+  CHECK_THAT(t.p[1], WithinAbs(3.0 / 6, 1e-15));
+  CHECK_THAT(t.p[2], WithinAbs(3.0 / 6, 1e-15));
+  CHECK_THAT(t.p[3], WithinAbs(4.0 / 6, 1e-15));
+  CHECK_THAT(t.p[4], WithinAbs(5.0 / 6, 1e-15));
+  CHECK(t.p[5] == 1.0);  // the NaN keeps its own rank
+  const Ecdf same = ecdf(std::vector<double>(7, 4.0), 3);
+  CHECK(same.p == std::vector<double>{1.0, 1.0, 1.0});
 }
 
 TEST_CASE("rmse over time, probability within a threshold, mean, pooled errors", "[sim][metrics]") {

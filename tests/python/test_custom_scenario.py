@@ -137,6 +137,11 @@ def test_what_generate_returns_is_checked() -> None:
         (dict(y=lambda d: d["y"][:, :2]), ValueError, r"'y': expected an array of shape \(60, 3\)"),
         (dict(y=lambda d: d["y"] + np.inf), ValueError, r"'y': expected finite values or NaN"),
         (
+            dict(quality=lambda d: np.full((60, 3), np.inf)),  # it was let through
+            ValueError,
+            r"^generate: 'quality': expected finite values or NaN \(missing\), got inf at \(0, 0\)",
+        ),
+        (
             dict(sight=lambda d: d["sight"] + 2),
             ValueError,
             r"'sight': expected conditions in \[0, 2\)",

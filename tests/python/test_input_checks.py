@@ -8,7 +8,18 @@ import pickle
 import numpy as np
 import pytest
 
-from nlosloc import core, filters, mitigation, models, noise, rbpf, sim, situation, snapshot
+from nlosloc import (
+    core,
+    filters,
+    mitigation,
+    models,
+    montecarlo,
+    noise,
+    rbpf,
+    sim,
+    situation,
+    snapshot,
+)
 from test_filters_api import MOTION, P0, X0, stack
 from test_rbpf import MOTION as MOTION6
 from test_rbpf import P0 as P06
@@ -576,3 +587,70 @@ def test_an_empty_estimator_list_is_refused():
         sim.run_monte_carlo(sim.K1(), "2LOS/1NLOS", runs=1, seed=1, estimators=())
     with pytest.raises(ValueError, match=msg):
         montecarlo.run("K1", "2LOS/1NLOS", 1, 1, [], progress=False)
+
+
+def test_core_and_sim_inputs_found_by_an_api_check() -> None:
+    """Each was taken silently, crashed, or gave a wrong value before."""
+    # a 0 x 0 matrix crashed the interpreter (Eigen's minCoeff on it); it is PD vacuously
+    e = np.zeros((0, 0))
+    assert core.is_spd(e) and core.is_spsd(e)
+    L, status, jitter = core.robust_cholesky(e)
+    assert L.shape == (0, 0) and status == core.CholeskyStatus.Ok and jitter == 0.0
+    # the tolerance of is_spd / is_spsd is checked (NaN passed a non-symmetric matrix)
+    for tol in (np.nan, -1.0, np.inf):
+        with pytest.raises(ValueError, match="^rel_tol: expected a finite value >= 0, got "):
+            core.is_spd(np.array([[2.0, 1.0], [0.0, 2.0]]), tol)
+        with pytest.raises(ValueError, match="^rel_tol: expected a finite value >= 0, got "):
+            core.is_spsd(-np.eye(2), tol)
+    # sigma_points: a non-finite mean, a non-symmetric covariance (its symmetric part was used)
+    scheme = core.SigmaScheme.scaled(0.5)
+    with pytest.raises(ValueError, match=r"^mean: expected finite values \(no NaN or inf\)$"):
+        core.sigma_points(np.array([0.0, np.nan]), np.eye(2), scheme)
+    with pytest.raises(ValueError, match=r"^cov: expected a finite symmetric matrix"):
+        core.sigma_points(np.zeros(2), np.array([[1.0, 0.9], [-0.9, 1.0]]), scheme)
+    # a scheme compares unequal to anything else (== None raised TypeError)
+    assert scheme != None and not (scheme == 3) and scheme in [None, scheme]  # noqa: E711
+    # eq. (52) has no kappa: the Huerta kind refuses one (+10 was ignored)
+    with pytest.raises(ValueError, match=r"kappa: expected 0 for the Huerta rule \(eq\. 52\)"):
+        core.SigmaScheme(core.SigmaScheme.Kind.Huerta, 0.5, 2.0, 10.0).weights(4)
+    # percentiles between -inf and a finite rank (NaN before)
+    np.testing.assert_array_equal(
+        sim.percentiles(np.array([-np.inf, 1.0, 2.0]), [0, 25, 50]), [-np.inf, -np.inf, 1.0]
+    )
+    # the ECDF counts ties: P(error <= 2) = 0.6 here (0.4 at the first 2 before)
+    v = np.array([3.0, 1.0, 2.0, 2.0, 5.0])
+    for x, p in (sim.ecdf(v), montecarlo.ecdf(v)):
+        np.testing.assert_array_equal(x, [1, 2, 2, 3, 5])
+        np.testing.assert_allclose(p, [0.2, 0.6, 0.6, 0.8, 1.0], rtol=0, atol=1e-15)
+        np.testing.assert_array_equal(p, [np.mean(v <= t) for t in x])
+    _, p = montecarlo.ecdf(np.array([2.0, np.nan, 2.0]))
+    np.testing.assert_allclose(p, [2 / 3, 2 / 3, 1.0])
+    # backdate refuses what is not a belief (a NaN mean came back NaN, -P as a start)
+    mo = models.ConstantVelocity2(0.5, 2.0)
+    with pytest.raises(ValueError, match=r"^mean: expected finite values"):
+        sim.backdate(mo, np.array([0.0, np.nan, 0.0, 0.0]), np.eye(4))
+    with pytest.raises(ValueError, match="^cov: expected a symmetric positive definite matrix$"):
+        sim.backdate(mo, np.zeros(4), -np.eye(4))
+    # the K2 study refuses runs no longer than the discard, as run_monte_carlo (all-NaN tables)
+    with pytest.raises(
+        ValueError, match=r"^steps: expected more than the scenario's 100 discarded"
+    ):
+        sim.run_k2_study(1, 1, steps=50)
+    # counts are integers, not True
+    for kw in (dict(runs=True), dict(threads=True), dict(steps=True)):
+        args = dict(runs=1, threads=1, steps=110) | kw
+        (name,) = kw
+        with pytest.raises(TypeError, match=rf"^{name}: expected an integer, got True \(bool\)$"):
+            sim.run_monte_carlo(
+                "K1",
+                "3LOS/0NLOS",
+                args["runs"],
+                1,
+                ["EKF"],
+                threads=args["threads"],
+                steps=args["steps"],
+            )
+    with pytest.raises(TypeError, match=r"^steps: expected an integer, got True"):
+        sim.draw("K1", "3LOS/0NLOS", 1, 0, steps=True)
+    with pytest.raises(TypeError, match=r"^runs: expected an integer, got True"):
+        sim.run_k2_study(True, 1)

@@ -247,6 +247,15 @@ def test_a_python_estimator_that_misbehaves_stops_the_run_with_a_clear_error() -
     with pytest.raises(ValueError, match="returned condition -1 for anchor 1"):
         run(lambda s, c: NegativeSight())
 
+    class UnknownCondition(Oracle):  # K1 has 2 conditions; 7 was scored as a wrong guess
+        def sight_estimate(self):
+            return [0, 7, 0]
+
+    with pytest.raises(
+        ValueError, match=r"returned condition 7 for anchor 1; expected an integer in \[0, 2\)"
+    ):
+        run(lambda s, c: UnknownCondition())
+
     def factory_raises(s, c):
         raise RuntimeError("no estimator for you")
 

@@ -47,6 +47,10 @@ struct SigmaScheme {
     switch (kind) {
       case Kind::kScaled:
       case Kind::kHuerta:
+        // eq. (52) has no kappa: weights() uses 0, so another value would be ignored (or refused below)
+        NLOSLOC_ENSURE(
+            kind != Kind::kHuerta || kappa == 0.0,
+            "sigma scheme: kappa: expected 0 for the Huerta rule (eq. 52), got " + std::to_string(kappa));
         NLOSLOC_ENSURE(std::isfinite(alpha) && alpha > 0.0 && alpha <= 1.0,
                        "sigma scheme: alpha: expected a value in (0, 1], got " + std::to_string(alpha));
         NLOSLOC_ENSURE(std::isfinite(beta), "sigma scheme: beta: expected a finite value");

@@ -30,10 +30,11 @@ namespace nlosloc::sim {
 /// The belief one prediction earlier whose prediction is `b` exactly: mean F^-1 m, covariance
 /// F^-1 (P - Q) F^-T. Filters that always predict before updating (Rbpf) start from it, so their first
 /// update sees the draw's initial belief at t_0 (scenario.hpp convention). Falls back to `b` itself when
-/// P - Q is not positive definite.
+/// P - Q is not positive definite. `b` must be a belief (Gaussian::validate, named "belief").
 template <class Motion>
 Gaussian<Motion::kDim> backdate(const Motion& motion, const Gaussian<Motion::kDim>& b) {
   constexpr int N = Motion::kDim;
+  b.validate("belief");  // a NaN mean or an indefinite covariance came back as a start
   const Mat<N, N> Fi = motion.F().inverse();
   Mat<N, N> P = Fi * (b.cov - motion.Q()) * Fi.transpose();
   P = 0.5 * (P + P.transpose()).eval();

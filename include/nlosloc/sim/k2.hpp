@@ -199,6 +199,9 @@ inline K2Study run_k2_study(const K2& s, int runs, std::uint64_t seed, int steps
                  "steps: expected >= 0 (0 = the scenario's default), got " + std::to_string(steps));
   check_estimator_specs(estimators);  // results are listed by name, as run_monte_carlo's
   const int T = steps > 0 ? steps : s.steps();
+  // as run_monte_carlo: no step left to average gave all-NaN statistics
+  NLOSLOC_ENSURE(T > s.discard(), "steps: expected more than the scenario's " + std::to_string(s.discard()) +
+                                      " discarded first steps, got " + std::to_string(T));
   const MatX A = s.anchors();
   const auto B = A.rows();
   K2Study st;

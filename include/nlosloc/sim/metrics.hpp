@@ -22,10 +22,12 @@ inline void check_percent(double q) {
 }
 /// numpy's _lerp: a + (b - a) t, computed from b when t >= 0.5 (so t = 1 gives b exactly). At a rank
 /// itself (t = 0, or a = b) the value is returned as it is, so an inf beside it does not turn it into
-/// inf * 0 = NaN (numpy's formula would).
+/// inf * 0 = NaN (numpy's formula would). Between an infinite rank and another (0 < t < 1) the result is
+/// the infinite one: -inf from a = -inf (a + diff t was -inf + inf = NaN), +inf towards b = +inf.
 inline double lerp(double a, double b, double t) {
   if (t == 0.0 || a == b) return a;
   const double diff = b - a;
+  if (std::isinf(a)) return a;
   if (std::isinf(diff))
     return a + diff * t;  // t > 0 towards an infinite rank: infinite (b - diff would be NaN)
   return t >= 0.5 ? b - diff * (1.0 - t) : a + diff * t;
@@ -67,7 +69,8 @@ inline double percentile(std::vector<double> values, double q) {
   return percentiles(std::move(values), {q})[0];
 }
 
-/// Empirical CDF: x ascending, p[i] = (rank of x[i]) / n with ranks 1..n, so P(error <= x[i]) = p[i].
+/// Empirical CDF: x ascending, p[i] = (number of values <= x[i]) / n = P(error <= x[i]); tied values share
+/// the rank of the last of them (a NaN, sorted last, keeps its own rank i + 1).
 struct Ecdf {
   std::vector<double> x;
   std::vector<double> p;
@@ -81,6 +84,8 @@ inline Ecdf ecdf(std::vector<double> values, std::size_t max_points = 0) {
   const std::size_t n = values.size();
   Ecdf e;
   const std::size_t m = (max_points == 0 || n <= max_points) ? n : max_points;
+  const auto finite_end =
+      std::partition_point(values.begin(), values.end(), [](double v) { return !std::isnan(v); });
   e.x.reserve(m);
   e.p.reserve(m);
   for (std::size_t j = 0; j < m; ++j) {
@@ -89,7 +94,14 @@ inline Ecdf ecdf(std::vector<double> values, std::size_t max_points = 0) {
                : static_cast<std::size_t>(std::llround(static_cast<double>(j) * static_cast<double>(n - 1) /
                                                        static_cast<double>(m - 1)));
     e.x.push_back(values[i]);
-    e.p.push_back(static_cast<double>(i + 1) / static_cast<double>(n));
+    // the end of x[i]'s run of ties (i + 1 was the rank of each, so P(error <= x) was too small)
+    const std::size_t le =
+        std::isnan(values[i])
+            ? i + 1
+            : static_cast<std::size_t>(
+                  std::upper_bound(values.begin() + static_cast<std::ptrdiff_t>(i), finite_end, values[i]) -
+                  values.begin());
+    e.p.push_back(static_cast<double>(le) / static_cast<double>(n));
   }
   return e;
 }

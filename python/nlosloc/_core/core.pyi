@@ -214,7 +214,7 @@ class SigmaScheme:
         """
         Scaled UT of Wan and van der Merwe (FilterPy's MerweScaledSigmaPoints); alpha in (0, 1].
         """
-    def __eq__(self, arg0: SigmaScheme) -> bool:
+    def __eq__(self, arg0: typing.Any) -> typing.Any:
         ...
     def __hash__(self) -> int:
         ...
