@@ -410,14 +410,9 @@ def ecdf(errors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         Sorted errors.
     p : numpy.ndarray
         The fraction of errors at most ``x[i]`` (tied errors share the largest rank; a NaN, sorted
-        last, keeps its own rank ``i + 1``), as ``sim.ecdf``.
+        last, keeps its own rank ``i + 1``): ``sim.ecdf`` of the flattened errors.
     """
-    x = np.sort(np.asarray(errors, dtype=float).ravel())
-    rank = np.searchsorted(x, x, side="right")
-    nan = np.isnan(x)
-    rank[nan] = np.flatnonzero(nan) + 1
-    p = rank.astype(float) / max(x.size, 1)
-    return x, p
+    return _sim.ecdf(np.asarray(errors, dtype=float).ravel())
 
 
 def rmse(result: dict[str, Any]) -> dict[str, np.ndarray]:

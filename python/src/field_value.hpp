@@ -2,7 +2,8 @@
 /// \file field_value.hpp
 /// Strict conversion of one Python value to a C++ scalar or registered type, with errors that name the
 /// receiver: the option and parameter fields (`QpBiasEkfOptions.gamma`), and through StrictArg the time
-/// arguments (`t0`), sizes (`n`) and the scalar arguments of some constructors (`Normal(mean, std)`).
+/// arguments (`t0`), sizes (`n`) and the scalar arguments of some constructors (`Normal(mean, std)`); and of
+/// one float vector (to_vector: measurement vectors `y`, `o`, `z`, samples).
 /// pybind11's own casters, used by def_readwrite and plain double/int arguments, take None and 0.5 as
 /// False for a bool field, True as 1.0 for a float, and refuse a wrong type with "incompatible function
 /// arguments" (TypeError) that shows the signature but not the field. Here a bool is a bool (True, False,
@@ -17,10 +18,13 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <typeinfo>
 #include <utility>
+
+#include "nlosloc/core/types.hpp"
 
 namespace nlosloc::bind {
 
@@ -106,8 +110,31 @@ T to_integer(py::handle v0, const std::string& what) {
 
 }  // namespace field_detail
 
+/// A complex array would be cast to its real part without a word (numpy only warns): refused, named.
+inline void reject_complex(const pybind11::handle& o, const char* name) {
+  namespace py = pybind11;
+  if (py::isinstance<py::array>(o) && py::reinterpret_borrow<py::array>(o).dtype().kind() == 'c')
+    throw std::invalid_argument(std::string(name) + ": expected real values, got a complex array");
+}
+
+/// A float vector from a Python object (a 1-D array or sequence of numbers), or std::invalid_argument
+/// naming it: pybind11's own cast would raise a bare RuntimeError. The callee checks the size and values.
+inline VecX to_vector(const pybind11::handle& o, const char* name) {
+  namespace py = pybind11;
+  if (o.is_none())  // numpy reads None as a 0-d NaN array
+    throw std::invalid_argument(std::string(name) + ": expected a 1-D float array, got None");
+  reject_complex(o, name);
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
+  if (!a || a.ndim() != 1)
+    throw std::invalid_argument(std::string(name) + ": expected a 1-D float array, got " +
+                                (a ? std::to_string(a.ndim()) + " dimensions"
+                                   : std::string(py::str(py::type::of(o).attr("__name__")))));
+  return Eigen::Map<const VecX>(a.data(), a.shape(0));
+}
+
 /// `v` as a T, or TypeError/ValueError beginning with `what` (the field or argument name). Scalars follow
-/// the rules of the file comment; any other T (an enum, a struct) is pybind11's cast, its failure named.
+/// the rules of the file comment, a VecX is to_vector's; any other T (an enum, a struct) is pybind11's
+/// cast, its failure named.
 template <class T>
 T field_value(pybind11::handle v, const std::string& what) {
   namespace py = pybind11;
@@ -117,6 +144,8 @@ T field_value(pybind11::handle v, const std::string& what) {
     return static_cast<T>(field_detail::to_real(v, what));
   } else if constexpr (std::is_integral_v<T>) {
     return field_detail::to_integer<T>(v, what);
+  } else if constexpr (std::is_same_v<T, VecX>) {
+    return to_vector(v, what.c_str());
   } else {
     try {
       return py::cast<T>(v);

@@ -76,13 +76,6 @@ void def_set_belief(Cls& c) {
       "Replaces the belief (validated: finite mean, symmetric positive definite cov).");
 }
 
-/// A complex array would be cast to its real part without a word (numpy only warns): refused, named.
-inline void reject_complex(const pybind11::handle& o, const char* name) {
-  namespace py = pybind11;
-  if (py::isinstance<py::array>(o) && py::reinterpret_borrow<py::array>(o).dtype().kind() == 'c')
-    throw std::invalid_argument(std::string(name) + ": expected real values, got a complex array");
-}
-
 /// Sight conditions (or any integer labels) from a 1-D or 2-D Python array, row-major (1-D: one row);
 /// *ndim receives the array's dimensions. Values must be integers (floats with integral values are
 /// accepted): an implicit cast would turn 0.5 into condition 0 without a word. The callee checks the
@@ -112,29 +105,11 @@ inline Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> to_in
   return out;
 }
 
-/// A float vector from a Python object (a 1-D array or sequence of numbers), or std::invalid_argument
-/// naming it: pybind11's own cast would raise a bare RuntimeError. The callee checks the size and values.
-inline VecX to_vector(const pybind11::handle& o, const char* name) {
-  namespace py = pybind11;
-  if (o.is_none())  // numpy reads None as a 0-d NaN array
-    throw std::invalid_argument(std::string(name) + ": expected a 1-D float array, got None");
-  reject_complex(o, name);
-  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
-  if (!a || a.ndim() != 1)
-    throw std::invalid_argument(std::string(name) + ": expected a 1-D float array, got " +
-                                (a ? std::to_string(a.ndim()) + " dimensions"
-                                   : std::string(py::str(py::type::of(o).attr("__name__")))));
-  return Eigen::Map<const VecX>(a.data(), a.shape(0));
-}
-
-/// A float vector argument, converted by to_vector when the function reads it (get), so a wrong shape or
-/// type raises ValueError naming the argument. pybind11's Eigen caster refuses it with a TypeError about the
-/// whole signature ("incompatible function arguments"), e.g. for a (1, m) row sliced from a (T, m) array.
-/// Only for functions without overloads: the caster accepts any object.
-struct VecArg {
-  pybind11::object obj;
-  VecX get(const char* name) const { return to_vector(obj, name); }
-};
+/// A float vector argument, converted by to_vector (field_value.hpp) when the function reads it (get), so
+/// a wrong shape or type raises ValueError naming the argument. pybind11's Eigen caster refuses it with a
+/// TypeError about the whole signature ("incompatible function arguments"), e.g. for a (1, m) row sliced
+/// from a (T, m) array. Only for functions without overloads: the caster accepts any object.
+using VecArg = StrictArg<VecX>;
 
 /// Binds a method of T taking one vector (z, o, ...) through VecArg, so its errors name `name`.
 template <class T, auto Method>
@@ -151,17 +126,3 @@ inline VecXi to_sight(const pybind11::handle& o, const char* name = "sight") {
 }
 
 }  // namespace nlosloc::bind
-
-namespace pybind11::detail {
-
-template <>
-struct type_caster<nlosloc::bind::VecArg> {
-  PYBIND11_TYPE_CASTER(nlosloc::bind::VecArg, const_name("numpy.typing.ArrayLike"));
-  bool load(handle src, bool /*convert*/) {
-    if (!src) return false;
-    value.obj = reinterpret_borrow<object>(src);
-    return true;
-  }
-};
-
-}  // namespace pybind11::detail

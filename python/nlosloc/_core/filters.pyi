@@ -101,11 +101,11 @@ class Kf:
         """
         Replaces the belief (validated: finite mean, symmetric positive definite cov).
         """
-    def step(self, y: numpy.typing.ArrayLike) -> StepResult:
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> StepResult:
         """
         predict() then update(y).
         """
-    def update(self, y: numpy.typing.ArrayLike) -> StepResult:
+    def update(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> StepResult:
         """
         Update with y (m,), NaN = missing.
         """
@@ -167,11 +167,11 @@ class Ekf:
         """
         Replaces the belief (validated: finite mean, symmetric positive definite cov).
         """
-    def step(self, y: numpy.typing.ArrayLike, sight: typing.Any = None) -> StepResult:
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
         """
         predict() then update(y, sight).
         """
-    def update(self, y: numpy.typing.ArrayLike, sight: typing.Any = None) -> StepResult:
+    def update(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
         """
         Update with y (m,) (NaN = missing row) and optional sight (B,) ints (default all LOS). Returns a StepResult with the predictive log-likelihood.
         """
@@ -223,11 +223,11 @@ class Ukf:
         """
         Replaces the belief (validated: finite mean, symmetric positive definite cov).
         """
-    def step(self, y: numpy.typing.ArrayLike, sight: typing.Any = None) -> StepResult:
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
         """
         predict() then update(y, sight).
         """
-    def update(self, y: numpy.typing.ArrayLike, sight: typing.Any = None) -> StepResult:
+    def update(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
         """
         Update with y (m,) (NaN = missing row) and optional sight (B,) ints (default all LOS). Returns a StepResult with the predictive log-likelihood.
         """
@@ -289,11 +289,11 @@ class UkfAugmented:
         """
         Replaces the belief (validated: finite mean, symmetric positive definite cov).
         """
-    def step(self, y: numpy.typing.ArrayLike, sight: typing.Any = None) -> StepResult:
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
         """
         predict() then update(y, sight).
         """
-    def update(self, y: numpy.typing.ArrayLike, sight: typing.Any = None) -> StepResult:
+    def update(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], sight: typing.Any = None) -> StepResult:
         """
         Update with y (m,) (NaN = missing row) and optional sight (B,) ints (default all LOS). Returns a StepResult with the predictive log-likelihood.
         """

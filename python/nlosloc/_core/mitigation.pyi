@@ -602,11 +602,11 @@ class QpBiasEkf:
         """
         Replaces the belief and, when t is given, the time; clears the last bias and decision.
         """
-    def step(self, z: numpy.typing.ArrayLike) -> MitigationStep:
+    def step(self, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> MitigationStep:
         """
         predict() then update(z).
         """
-    def update(self, z: numpy.typing.ArrayLike) -> MitigationStep:
+    def update(self, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> MitigationStep:
         """
         Update with ranges z (M,), NaN = missing.
         """
@@ -721,9 +721,9 @@ class BiasAugmentedEkf:
         """
         Sets the kinematic belief and, when t is given, the time; resets the biases to the prior.
         """
-    def step(self, z: numpy.typing.ArrayLike) -> nlosloc._core.filters.StepResult:
+    def step(self, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> nlosloc._core.filters.StepResult:
         ...
-    def update(self, z: numpy.typing.ArrayLike) -> nlosloc._core.filters.StepResult:
+    def update(self, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> nlosloc._core.filters.StepResult:
         ...
     @property
     def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:

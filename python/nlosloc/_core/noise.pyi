@@ -862,7 +862,7 @@ class AsymmetricNormal:
         Standard deviation right of the mode, > 0.
     """
     @staticmethod
-    def fit(samples: numpy.typing.ArrayLike) -> AsymmetricNormal:
+    def fit(samples: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> AsymmetricNormal:
         """
         Maximum-likelihood fit (Villani & Larsson 2006 profile likelihood).
         
@@ -1159,7 +1159,7 @@ class Empirical:
     """
     def __getstate__(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
         ...
-    def __init__(self, samples: numpy.typing.ArrayLike) -> None:
+    def __init__(self, samples: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
         ...
     def __repr__(self) -> str:
         ...

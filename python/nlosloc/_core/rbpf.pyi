@@ -355,7 +355,7 @@ class Rbpf:
         """
         The Gaussian summary as a tuple (mean (n,), cov (n, n)).
         """
-    def check_inputs(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> None:
+    def check_inputs(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
         """
         Raises the ValueError a step with y (m,) and o (B,) would raise, changing nothing (run() checks every row this way before its first step).
         """
@@ -389,7 +389,7 @@ class Rbpf:
         """
         Most probable condition per anchor (B,).
         """
-    def step(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> RbpfStepInfo:
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> RbpfStepInfo:
         """
         One iteration with measurements y (m,) and quality statistics o (B,).
         """
@@ -468,7 +468,7 @@ class ParticleFilter:
         """
         The Gaussian summary as a tuple (mean (n,), cov (n, n)).
         """
-    def check_inputs(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> None:
+    def check_inputs(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
         """
         Raises the ValueError a step with y (m,) and o (B,) would raise, changing nothing (run() checks every row this way before its first step).
         """
@@ -492,7 +492,7 @@ class ParticleFilter:
         """
         Most probable condition per anchor (B,).
         """
-    def step(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> PfStepInfo:
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> PfStepInfo:
         ...
     @property
     def covariance(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -568,7 +568,7 @@ class Iukf:
         """
         The Gaussian summary as a tuple (mean (n,), cov (n, n)).
         """
-    def check_inputs(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> None:
+    def check_inputs(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
         """
         Raises the ValueError a step with y (m,) and o (B,) would raise, changing nothing (run() checks every row this way before its first step).
         """
@@ -586,15 +586,15 @@ class Iukf:
         """
         Most probable condition per anchor (B,).
         """
-    def step(self, y: numpy.typing.ArrayLike, o: typing.Any = None, *, sight: typing.Any = None) -> nlosloc._core.filters.StepResult:
+    def step(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Any = None, *, sight: typing.Any = None) -> nlosloc._core.filters.StepResult:
         """
         With o (B,): step_quality(y, o). With sight= (B,) ints: the C++ step(y, sight), a known situation (one-hot probabilities: the plain UKF). Returns a StepResult.
         """
-    def step_quality(self, y: numpy.typing.ArrayLike, o: numpy.typing.ArrayLike) -> nlosloc._core.filters.StepResult:
+    def step_quality(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> nlosloc._core.filters.StepResult:
         """
         predict, forward filter with o (B,), update with y (m,); a rejected call changes nothing. Returns a StepResult.
         """
-    def update_with_probabilities(self, y: numpy.typing.ArrayLike, gamma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> nlosloc._core.filters.StepResult:
+    def update_with_probabilities(self, y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], gamma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> nlosloc._core.filters.StepResult:
         """
         Update with explicit (B, N_z) condition probabilities.
         """

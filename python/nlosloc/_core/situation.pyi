@@ -248,7 +248,7 @@ class ForwardFilter:
         """
         predict(speeds) then update(o); a rejected call changes nothing.
         """
-    def update(self, o: numpy.typing.ArrayLike) -> float:
+    def update(self, o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> float:
         """
         Update with o (B,) (NaN = missing), eqs. (37)-(38); returns log p(o_t | o_1:t-1).
         """
