@@ -220,7 +220,9 @@ void define_module(py::module_& m) {
 
   m.def(
       "sigma_points",
-      [](const VecX& mean, const MatX& cov, const SigmaScheme& scheme) {
+      [](const bind::VecArg& mean_in, const bind::MatArg& cov_in, const SigmaScheme& scheme) {
+        const VecX mean = mean_in.get("mean");
+        const MatX cov = cov_in.get("cov");
         detail::ensure_shape(cov, mean.size(), mean.size(), "cov");
         detail::ensure_finite(mean, "mean");
         // robust_cholesky factors the symmetric part, so a non-symmetric cov would pass as another matrix
@@ -246,7 +248,8 @@ void define_module(py::module_& m) {
 
   m.def(
       "robust_cholesky",
-      [](const MatX& A) {
+      [](const bind::MatArg& A_in) {
+        const MatX A = A_in.get("A");
         NLOSLOC_ENSURE(A.rows() == A.cols(), "A: expected a square matrix");
         MatX L = MatX::Zero(A.rows(), A.cols());
         double jitter = 0.0;
@@ -258,12 +261,17 @@ void define_module(py::module_& m) {
       "(A + A^T)/2 first; on failure retries with eps * mean(diag) added, eps = 1e-12, 1e-10, 1e-8; "
       "status Failed when all fail (L is then unusable).");
   m.def(
-      "log_sum_exp", [](const VecX& v) { return log_sum_exp(v); }, py::arg("v"),
-      "log(sum(exp(v))) computed stably; -inf for empty input.");
+      "log_sum_exp",
+      [](const bind::VecArg& v_in) {
+        const VecX v = v_in.get("v");
+        return log_sum_exp(v);
+      },
+      py::arg("v"), "log(sum(exp(v))) computed stably; -inf for empty input.");
   m.def("wrap_angle", py::vectorize(&wrap_angle), py::arg("a"), "Wraps angles (rad) to (-pi, pi].");
   m.def(
       "log_normalize",
-      [](VecX v) {
+      [](const bind::VecArg& v_in) {
+        VecX v = v_in.get("v");
         const double z = log_normalize(v);
         return py::make_tuple(v, z);
       },
@@ -272,7 +280,9 @@ void define_module(py::module_& m) {
       "(v unchanged when z is not finite).");
   m.def(
       "gaussian_log_pdf_chol",
-      [](const MatX& L, const VecX& x) {
+      [](const bind::MatArg& L_in, const bind::VecArg& x_in) {
+        const MatX L = L_in.get("L");
+        const VecX x = x_in.get("x");
         detail::ensure_shape(L, x.size(), x.size(), "L");
         if (!L.allFinite() || !(L.diagonal().array() > 0.0).all() ||
             !MatX(L.triangularView<Eigen::StrictlyUpper>()).isZero(0.0))
@@ -282,17 +292,30 @@ void define_module(py::module_& m) {
       },
       py::arg("L"), py::arg("x"), "log N(x; 0, S) from the lower Cholesky factor L of S (m, m) and x (m,).");
   m.def(
-      "is_spd", [](const MatX& A, double rel_tol) { return is_spd(A, rel_tol); }, py::arg("A"),
-      py::arg("rel_tol") = 1e-9,
+      "is_spd",
+      [](const bind::MatArg& A_in, double rel_tol) {
+        const MatX A = A_in.get("A");
+        return is_spd(A, rel_tol);
+      },
+      py::arg("A"), py::arg("rel_tol") = 1e-9,
       "True when A is square, finite, symmetric to rel_tol (relative to its largest entry) and positive "
       "definite: the check set_belief applies to a covariance.");
   m.def(
-      "is_spsd", [](const MatX& A, double rel_tol) { return is_spsd(A, rel_tol); }, py::arg("A"),
-      py::arg("rel_tol") = 1e-9,
+      "is_spsd",
+      [](const bind::MatArg& A_in, double rel_tol) {
+        const MatX A = A_in.get("A");
+        return is_spsd(A, rel_tol);
+      },
+      py::arg("A"), py::arg("rel_tol") = 1e-9,
       "True when A is square, finite, symmetric to rel_tol (relative to its largest entry) and positive "
       "semi-definite (LDLT pivots >= -rel_tol max|A|): the check a particle set's covariance passes.");
   m.def(
-      "are_log_weights", [](const VecX& v) { return are_log_weights(v); }, py::arg("v"),
+      "are_log_weights",
+      [](const bind::VecArg& v_in) {
+        const VecX v = v_in.get("v");
+        return are_log_weights(v);
+      },
+      py::arg("v"),
       "True when every entry is a valid log weight: finite or -inf (a ruled-out particle), never NaN or "
       "+inf.");
   m.attr("SPEED_OF_LIGHT") = kSpeedOfLight;

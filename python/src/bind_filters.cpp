@@ -148,10 +148,8 @@ void measurement_methods(Cls& c) {
           py::arg("y"), py::arg("sight") = py::none(), "predict() then update(y, sight).")
       .def(
           "run",
-          [](A& a,
-             const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>&
-                 Y,
-             const py::object& sight) {
+          [](A& a, const bind::RowMatArg& Y_in, const py::object& sight) {
+            const bind::RowMat Y = Y_in.get("Y");
             return a.visit([&](auto& f) {
               return run_batch(f, Y, sight, f.measurements().rows(), f.measurements().num_anchors());
             });
@@ -190,8 +188,13 @@ void define_module(py::module_& m) {
   {
     using A = AnyFilter<KfT>;
     py::class_<A> c(m, "Kf", "Linear Kalman filter y = H x + n, n ~ N(0, R).");
-    c.def(py::init([](const py::object& motion, const MatX& H, const MatX& R, const VecX& mean,
-                      const MatX& cov, const bind::StrictArg<double>& t0_in) {
+    c.def(py::init([](const py::object& motion, const bind::MatArg& H_in, const bind::MatArg& R_in,
+                      const bind::VecArg& mean_in, const bind::MatArg& cov_in,
+                      const bind::StrictArg<double>& t0_in) {
+            const MatX H = H_in.get("H");
+            const MatX R = R_in.get("R");
+            const VecX mean = mean_in.get("mean");
+            const MatX cov = cov_in.get("cov");
             const double t0 = t0_in.get("t0");
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return Kf<std::decay_t<decltype(mo)>>(mo, H, R, g, t0);
@@ -224,8 +227,10 @@ void define_module(py::module_& m) {
   {
     using A = AnyFilter<EkfT>;
     py::class_<A> c(m, "Ekf", "Extended Kalman filter over a MeasurementStack (noise moments per sight).");
-    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean,
-                      const MatX& cov, const bind::StrictArg<double>& t0_in) {
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const bind::VecArg& mean_in,
+                      const bind::MatArg& cov_in, const bind::StrictArg<double>& t0_in) {
+            const VecX mean = mean_in.get("mean");
+            const MatX cov = cov_in.get("cov");
             const double t0 = t0_in.get("t0");
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return Ekf<std::decay_t<decltype(mo)>>(mo, meas, g, t0);
@@ -240,8 +245,11 @@ void define_module(py::module_& m) {
     py::class_<A> c(m, "Ukf",
                     "UKF with additive measurement noise (exact linear prediction; sigma points redrawn from "
                     "the predicted belief for the update).");
-    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean,
-                      const MatX& cov, const SigmaScheme& scheme, const bind::StrictArg<double>& t0_in) {
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const bind::VecArg& mean_in,
+                      const bind::MatArg& cov_in, const SigmaScheme& scheme,
+                      const bind::StrictArg<double>& t0_in) {
+            const VecX mean = mean_in.get("mean");
+            const MatX cov = cov_in.get("cov");
             const double t0 = t0_in.get("t0");
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return Ukf<std::decay_t<decltype(mo)>>(mo, meas, g, scheme, t0);
@@ -258,8 +266,11 @@ void define_module(py::module_& m) {
     py::class_<A> c(m, "UkfAugmented",
                     "UKF with the measurement noise in the sigma points through each distribution's quantile "
                     "map (Huerta Sec. V-A; Grisales eq. 29).");
-    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const VecX& mean,
-                      const MatX& cov, const SigmaScheme& scheme, const bind::StrictArg<double>& t0_in) {
+    c.def(py::init([](const py::object& motion, const MeasurementStack& meas, const bind::VecArg& mean_in,
+                      const bind::MatArg& cov_in, const SigmaScheme& scheme,
+                      const bind::StrictArg<double>& t0_in) {
+            const VecX mean = mean_in.get("mean");
+            const MatX cov = cov_in.get("cov");
             const double t0 = t0_in.get("t0");
             return A(motion, mean, cov, [&](const auto& mo, const auto& g) {
               return UkfAugmented<std::decay_t<decltype(mo)>>(mo, meas, g, scheme, t0);

@@ -95,6 +95,7 @@ class PythonBoxQp final : public BoxQp {
       x_.setZero();
       return res;
     }
+    bind::reject_non_real(r, ("solver: solve() of '" + name_ + "'").c_str());
     const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(r);
     if (!a || a.ndim() != 1 || a.size() != n_)
       throw py::value_error("solver: solve() of '" + name_ + "' returned " + bind::describe(r, a) +
@@ -235,7 +236,12 @@ void define_module(pybind11::module_& m) {
       .def_property_readonly("name", &BoxQp::name)
       .def(
           "solve",
-          [](BoxQp& q, const MatX& H, const VecX& g, const VecX& lower, const VecX& upper) {
+          [](BoxQp& q, const bind::MatArg& H_in, const bind::VecArg& g_in, const bind::VecArg& lower_in,
+             const bind::VecArg& upper_in) {
+            const MatX H = H_in.get("H");
+            const VecX g = g_in.get("g");
+            const VecX lower = lower_in.get("lower");
+            const VecX upper = upper_in.get("upper");
             py::gil_scoped_release nogil;
             return q.solve(H, g, lower, upper);
           },
@@ -324,7 +330,11 @@ void define_module(pybind11::module_& m) {
       .def_readonly("vertices", &ReferencePoint::vertices);
   m.def(
       "reference_point",
-      [](const MatX& anchors, const VecX& z, std::optional<VecX> hint) {
+      [](const bind::MatArg& anchors_in, const bind::VecArg& z_in,
+         const std::optional<bind::VecArg>& hint_in) {
+        const MatX anchors = anchors_in.get("anchors");
+        const VecX z = z_in.get("z");
+        const std::optional<VecX> hint = bind::optional_get(hint_in, "hint");
         nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
         nlosloc::detail::ensure_shape(z, anchors.rows(), 1, "z");
         if (!hint) return reference_point(anchors, z);
@@ -349,7 +359,8 @@ void define_module(pybind11::module_& m) {
       .def_readonly("flags", &BiasEstimate::flags, "FLAG_* bits of the fallbacks taken.");
 
   py::class_<BiasEstimator>(m, "BiasEstimator", "Ke & Wu Sec. 3 NLOS bias estimation for fixed anchors.")
-      .def(py::init([](const MatX& anchors, const py::object& solver, const BoxQpSettings& s) {
+      .def(py::init([](const bind::MatArg& anchors_in, const py::object& solver, const BoxQpSettings& s) {
+             const MatX anchors = anchors_in.get("anchors");
              nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
              return std::make_unique<BiasEstimator>(
                  anchors, solver_arg(solver, static_cast<int>(anchors.rows()), s, false));
@@ -360,7 +371,11 @@ void define_module(pybind11::module_& m) {
            "an object with solve(H, g, lower, upper) returning the minimiser (M,) or None (see QpBiasEkf).")
       .def(
           "estimate",
-          [](BiasEstimator& e, const VecX& z, const VecX& variances, std::optional<VecX> hint) {
+          [](BiasEstimator& e, const bind::VecArg& z_in, const bind::VecArg& variances_in,
+             const std::optional<bind::VecArg>& hint_in) {
+            const VecX z = z_in.get("z");
+            const VecX variances = variances_in.get("variances");
+            const std::optional<VecX> hint = bind::optional_get(hint_in, "hint");
             if (!hint) return e.estimate(z, variances);
             nlosloc::detail::ensure_shape(*hint, 2, 1, "hint");
             const Vec<2> h = *hint;
@@ -368,12 +383,16 @@ void define_module(pybind11::module_& m) {
           },
           py::arg("z"), py::arg("variances"), py::arg("hint") = py::none(),
           "Biases of ranges z (M,) with noise variances (M,) (eqs. 9-15); returns a BiasEstimate copy.")
-      .def("estimate_from_innovation", &BiasEstimator::estimate_from_innovation, py::arg("z"),
-           py::arg("innovation"), py::arg("D"),
-           "Eqs. (12)-(15) referenced to a tracker's prediction: r = innovation (M,) (eq. 26), L = I, "
-           "Sigma_v = D (M, M) (eq. 27: F P F^T + R), bounds from the ranges z (M,); returns a BiasEstimate "
-           "copy. D must be finite, symmetric and positive definite, else ValueError naming D (the "
-           "estimator unchanged).")
+      .def(
+          "estimate_from_innovation",
+          [](BiasEstimator& e, const bind::VecArg& z, const bind::VecArg& innovation, const bind::MatArg& D) {
+            return e.estimate_from_innovation(z.get("z"), innovation.get("innovation"), D.get("D"));
+          },
+          py::arg("z"), py::arg("innovation"), py::arg("D"),
+          "Eqs. (12)-(15) referenced to a tracker's prediction: r = innovation (M,) (eq. 26), L = I, "
+          "Sigma_v = D (M, M) (eq. 27: F P F^T + R), bounds from the ranges z (M,); returns a BiasEstimate "
+          "copy. D must be finite, symmetric and positive definite, else ValueError naming D (the "
+          "estimator unchanged).")
       .def_property(
           "sparsity", &BiasEstimator::sparsity,
           [](BiasEstimator& e, const bind::StrictArg<double>& v) {
@@ -455,9 +474,12 @@ void define_module(pybind11::module_& m) {
   py::class_<QpBiasEkf>(m, "QpBiasEkf",
                         "Ke & Wu 2011 proposed tracker: EKF with QP-estimated NLOS biases (eq. 25) and the "
                         "innovation test of eqs. (31)-(32). State [x, y, vx, vy].")
-      .def(py::init([](const ConstantVelocity2& motion, const MatX& anchors, const VecX& mean,
-                       const MatX& cov, const QpBiasEkfOptions& o, const py::object& solver,
-                       const bind::StrictArg<double>& t0_in) {
+      .def(py::init([](const ConstantVelocity2& motion, const bind::MatArg& anchors_in,
+                       const bind::VecArg& mean_in, const bind::MatArg& cov_in, const QpBiasEkfOptions& o,
+                       const py::object& solver, const bind::StrictArg<double>& t0_in) {
+             const MatX anchors = anchors_in.get("anchors");
+             const VecX mean = mean_in.get("mean");
+             const MatX cov = cov_in.get("cov");
              const double t0 = t0_in.get("t0");
              nlosloc::detail::ensure_shape(anchors, -1, 2, "anchors");
              // "default": QpBiasEkf's own choice (EnumerationBoxQp for the prediction reference, M <= 8)
@@ -495,7 +517,8 @@ void define_module(pybind11::module_& m) {
            "predict() then update(z).")
       .def(
           "run",
-          [](QpBiasEkf& f, const RowMat& Z, bool first_is_update) {
+          [](QpBiasEkf& f, const bind::RowMatArg& Z_in, bool first_is_update) {
+            const RowMat Z = Z_in.get("Z");
             nlosloc::detail::ensure_shape(Z, -1, f.num_anchors(), "Z");
             bind::check_steps(Z.rows(), [&](Eigen::Index k) {
               nlosloc::detail::check_measurement(Z.row(k).transpose(), f.num_anchors(), "Z");
@@ -539,8 +562,10 @@ void define_module(pybind11::module_& m) {
       .def_property_readonly("options", &QpBiasEkf::options, py::return_value_policy::copy)
       .def(
           "set_belief",
-          [](QpBiasEkf& f, const VecX& mean, const MatX& cov,
+          [](QpBiasEkf& f, const bind::VecArg& mean_in, const bind::MatArg& cov_in,
              const std::optional<bind::StrictArg<double>>& t_in) {
+            const VecX mean = mean_in.get("mean");
+            const MatX cov = cov_in.get("cov");
             const std::optional<double> t = bind::optional_get(t_in, "t");
             f.set_belief(to_belief4(mean, cov), t.value_or(f.time()));
           },
@@ -568,14 +593,17 @@ void define_module(pybind11::module_& m) {
   py::class_<BiasAugmentedEkf>(m, "BiasAugmentedEkf",
                                "Iterated NLOS EKF (Najar & Vidal 2003, Ke & Wu Sec. 1): state [x, y, vx, vy, "
                                "b_1..b_M], iterated EKF update.")
-      .def(
-          py::init([](const ConstantVelocity2& motion, const MatX& anchors, const VecX& mean, const MatX& cov,
-                      const BiasAugmentedEkfOptions& o, const bind::StrictArg<double>& t0_in) {
-            const double t0 = t0_in.get("t0");
-            return BiasAugmentedEkf(motion, anchors, to_belief4(mean, cov), o, t0);
-          }),
-          py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
-          py::arg_v("options", BiasAugmentedEkfOptions(), "BiasAugmentedEkfOptions()"), py::arg("t0") = 0.0)
+      .def(py::init([](const ConstantVelocity2& motion, const bind::MatArg& anchors_in,
+                       const bind::VecArg& mean_in, const bind::MatArg& cov_in,
+                       const BiasAugmentedEkfOptions& o, const bind::StrictArg<double>& t0_in) {
+             const MatX anchors = anchors_in.get("anchors");
+             const VecX mean = mean_in.get("mean");
+             const MatX cov = cov_in.get("cov");
+             const double t0 = t0_in.get("t0");
+             return BiasAugmentedEkf(motion, anchors, to_belief4(mean, cov), o, t0);
+           }),
+           py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
+           py::arg_v("options", BiasAugmentedEkfOptions(), "BiasAugmentedEkfOptions()"), py::arg("t0") = 0.0)
       .def("predict", &BiasAugmentedEkf::predict)
       .def("update", bind::vector_method<BiasAugmentedEkf, &BiasAugmentedEkf::update>("z"), py::arg("z"))
       .def("step", bind::vector_method<BiasAugmentedEkf, &BiasAugmentedEkf::step>("z"), py::arg("z"))
@@ -599,8 +627,10 @@ void define_module(pybind11::module_& m) {
                              "The motion model (a copy).")
       .def(
           "set_belief",
-          [](BiasAugmentedEkf& f, const VecX& mean, const MatX& cov,
+          [](BiasAugmentedEkf& f, const bind::VecArg& mean_in, const bind::MatArg& cov_in,
              const std::optional<bind::StrictArg<double>>& t_in) {
+            const VecX mean = mean_in.get("mean");
+            const MatX cov = cov_in.get("cov");
             const std::optional<double> t = bind::optional_get(t_in, "t");
             f.set_belief(to_belief4(mean, cov), t.value_or(f.time()));
           },
@@ -608,8 +638,10 @@ void define_module(pybind11::module_& m) {
           "Sets the kinematic belief and, when t is given, the time; resets the biases to the prior.")
       .def(
           "set_augmented_belief",
-          [](BiasAugmentedEkf& f, const VecX& mean, const MatX& cov,
+          [](BiasAugmentedEkf& f, const bind::VecArg& mean_in, const bind::MatArg& cov_in,
              const std::optional<bind::StrictArg<double>>& t_in) {
+            const VecX mean = mean_in.get("mean");
+            const MatX cov = cov_in.get("cov");
             const std::optional<double> t = bind::optional_get(t_in, "t");
             nlosloc::detail::ensure_shape(mean, f.state_dim(), 1, "mean");
             nlosloc::detail::ensure_shape(cov, f.state_dim(), f.state_dim(), "cov");

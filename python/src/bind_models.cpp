@@ -126,8 +126,10 @@ void define_module(py::module_& m) {
       m, "MeasurementStack",
       "Stack of measurement rows y = g(x) + n(s), each tied to an anchor whose sight condition s selects the "
       "row's noise (Huerta Table I; Grisales eqs. 17-20). Build it once with the add_* methods.")
-      .def(py::init<const StateLayout&, const MatX&, int>(), py::arg("layout"), py::arg("anchors"),
-           py::arg("num_conditions") = 2,
+      .def(py::init([](const StateLayout& layout, const bind::MatArg& anchors, int num_conditions) {
+             return MeasurementStack(layout, anchors.get("anchors"), num_conditions);
+           }),
+           py::arg("layout"), py::arg("anchors"), py::arg("num_conditions") = 2,
            "layout: from the motion model (e.g. ConstantVelocity2.layout()); anchors: (B, D) positions in m; "
            "num_conditions: sight conditions per anchor (0 = LOS).")
       .def("add_toa", &MeasurementStack::add_toa, py::arg("anchor"), py::arg("noise"),
@@ -147,8 +149,14 @@ void define_module(py::module_& m) {
            py::return_value_policy::reference_internal,
            "Two-way-ranging pair (tau, T) of Grisales eqs. (17)-(20); gamma[z]: NLOS delay distribution of "
            "condition z, None for no delay.")
-      .def("add_linear", &MeasurementStack::add_linear, py::arg("h"), py::arg("anchor"), py::arg("noise"),
-           py::return_value_policy::reference_internal, "Linear row h^T x.")
+      .def(
+          "add_linear",
+          [](MeasurementStack& s, const bind::VecArg& h, int anchor,
+             const std::vector<MeasurementStack::Dist>& noise) -> MeasurementStack& {
+            return s.add_linear(h.get("h"), anchor, noise);
+          },
+          py::arg("h"), py::arg("anchor"), py::arg("noise"), py::return_value_policy::reference_internal,
+          "Linear row h^T x.")
       .def_property_readonly("rows", &MeasurementStack::rows)
       .def_property_readonly("noise_dim", &MeasurementStack::noise_dim)
       .def_property_readonly("num_anchors", &MeasurementStack::num_anchors)
@@ -169,7 +177,8 @@ void define_module(py::module_& m) {
           py::arg("i"), "h of linear row i (y = h^T x + n), a copy.")
       .def(
           "predict",
-          [](const MeasurementStack& s, const VecX& x, const bind::StrictArg<double>& t_in) {
+          [](const MeasurementStack& s, const bind::VecArg& x_in, const bind::StrictArg<double>& t_in) {
+            const VecX x = x_in.get("x");
             const double t = t_in.get("t");
             detail::ensure_shape(x, s.layout().dim, 1, "x");
             VecX y(s.rows());
@@ -179,7 +188,8 @@ void define_module(py::module_& m) {
           py::arg("x"), py::arg("t") = 0.0, "Noise-free prediction g(x), shape (rows,).")
       .def(
           "predict_columns",
-          [](const MeasurementStack& s, const MatX& X, const bind::StrictArg<double>& t_in) {
+          [](const MeasurementStack& s, const bind::MatArg& X_in, const bind::StrictArg<double>& t_in) {
+            const MatX X = X_in.get("X");
             const double t = t_in.get("t");
             detail::ensure_shape(X, s.layout().dim, -1, "X");
             MatX Z(s.rows(), X.cols());
@@ -191,7 +201,8 @@ void define_module(py::module_& m) {
           "path, row by row).")
       .def(
           "jacobian",
-          [](const MeasurementStack& s, const VecX& x, const bind::StrictArg<double>& t_in) {
+          [](const MeasurementStack& s, const bind::VecArg& x_in, const bind::StrictArg<double>& t_in) {
+            const VecX x = x_in.get("x");
             const double t = t_in.get("t");
             detail::ensure_shape(x, s.layout().dim, 1, "x");
             MatX J(s.rows(), x.size());
@@ -201,7 +212,8 @@ void define_module(py::module_& m) {
           py::arg("x"), py::arg("t") = 0.0, "Analytic Jacobian dg/dx, shape (rows, n).")
       .def(
           "noise_moments",
-          [](const MeasurementStack& s, const VecX& x, const py::object& sight_obj) {
+          [](const MeasurementStack& s, const bind::VecArg& x_in, const py::object& sight_obj) {
+            const VecX x = x_in.get("x");
             detail::ensure_shape(x, s.layout().dim, 1, "x");
             const VecXi sight = bind::to_sight(sight_obj);
             s.check_sight(sight);
@@ -213,8 +225,10 @@ void define_module(py::module_& m) {
           py::arg("x"), py::arg("sight"), "(mean, cov) of the noise under `sight` at x.")
       .def(
           "predict_augmented",
-          [](const MeasurementStack& s, const VecX& x, const bind::StrictArg<double>& t_in, const VecX& u,
-             const py::object& sight_obj) {
+          [](const MeasurementStack& s, const bind::VecArg& x_in, const bind::StrictArg<double>& t_in,
+             const bind::VecArg& u_in, const py::object& sight_obj) {
+            const VecX x = x_in.get("x");
+            const VecX u = u_in.get("u");
             const double t = t_in.get("t");
             detail::ensure_shape(x, s.layout().dim, 1, "x");
             detail::ensure_shape(u, s.noise_dim(), 1, "u");
@@ -228,7 +242,9 @@ void define_module(py::module_& m) {
           "g(x) plus noise built from standard normals u (noise_dim,) through each quantile map.")
       .def(
           "residual",
-          [](const MeasurementStack& s, const VecX& a, const VecX& b) {
+          [](const MeasurementStack& s, const bind::VecArg& a_in, const bind::VecArg& b_in) {
+            const VecX a = a_in.get("a");
+            const VecX b = b_in.get("b");
             detail::ensure_shape(a, s.rows(), 1, "a");
             detail::ensure_shape(b, s.rows(), 1, "b");
             VecX r = a - b;

@@ -404,7 +404,7 @@ samples : numpy.ndarray
       .def_property_readonly("bandwidth", &Empirical::bandwidth, "Kernel bandwidth h (unit of x).")
       .def_property_readonly("size", &Empirical::size, "Number of samples n.")
       .def(py::pickle([](const Empirical& d) { return py::make_tuple(d.samples()); },
-                      [](const py::tuple& t) { return Empirical(t[0].cast<VecX>()); }));
+                      [](const py::tuple& t) { return Empirical(bind::to_vector(t[0], "samples")); }));
   def_common<Empirical>(empirical);
 
   // ---- Distribution

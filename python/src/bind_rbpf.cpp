@@ -164,7 +164,10 @@ void particle_filter_methods(C& c) {
           "The situation.QualityModel it was built with (a copy).")
       .def(
           "reset",
-          [](A& a, const VecX& mean, const MatX& cov, const bind::StrictArg<double>& t0_in) {
+          [](A& a, const bind::VecArg& mean_in, const bind::MatArg& cov_in,
+             const bind::StrictArg<double>& t0_in) {
+            const VecX mean = mean_in.get("mean");
+            const MatX cov = cov_in.get("cov");
             const double t0 = t0_in.get("t0");
             a.visit([&](auto& f) {
               constexpr int N = std::decay_t<decltype(f)>::N;
@@ -179,6 +182,29 @@ void particle_filter_methods(C& c) {
 void check_log_weights(const VecX& logw) {
   NLOSLOC_ENSURE(are_log_weights(logw),
                  "logw: expected log weights that are finite or -inf (no NaN, no +inf)");
+}
+
+/// Condition indices of a snapshot from a 2-D integer array (to_int_rows: 0.5 or True refused), named.
+Eigen::MatrixXi situations_arg(const py::object& o) {
+  int ndim = 0;
+  Eigen::MatrixXi s = bind::to_int_rows(o, "situations", &ndim);
+  if (ndim != 2) throw std::invalid_argument("situations: expected a 2-D integer array");
+  return s;
+}
+
+/// P covariances from a sequence of (n, n) float arrays or one (P, n, n) array, each read by to_matrix
+/// under its own name (covs[i]).
+std::vector<MatX> covs_arg(const py::object& o) {
+  if (!PySequence_Check(o.ptr()) || PyUnicode_Check(o.ptr()) || PyBytes_Check(o.ptr()))
+    throw std::invalid_argument(
+        "covs: expected a sequence of (n, n) float arrays or a (P, n, n) array, got " +
+        std::string(py::str(py::type::of(o).attr("__name__"))));
+  const auto seq = py::reinterpret_borrow<py::sequence>(o);
+  std::vector<MatX> out;
+  out.reserve(seq.size());
+  for (std::size_t i = 0; i < seq.size(); ++i)
+    out.push_back(bind::to_matrix(seq[i], ("covs[" + std::to_string(i) + "]").c_str()));
+  return out;
 }
 
 /// Per-anchor log factors A (B, N_z) of the offspring enumerations: B, N_z >= 1, no NaN or +inf (-inf: a
@@ -276,11 +302,19 @@ void define_module(py::module_& m) {
   py::class_<RbpfSnapshot>(m, "RbpfSnapshot",
                            "What an Rbpf carries from one step to the next (Rbpf.save / Rbpf.restore): a "
                            "checkpoint, and what pickling an Rbpf stores. Checked by Rbpf.restore.")
-      .def(py::init([](const Eigen::MatrixXi& situations, const MatX& means, const std::vector<MatX>& covs,
-                       const VecX& log_weights, const MatX& situation_probabilities, const VecX& estimate,
-                       const MatX& covariance, double time, long step) {
-             return RbpfSnapshot{situations, means,      covs, log_weights, situation_probabilities,
-                                 estimate,   covariance, time, step};
+      .def(py::init([](const py::object& situations, const bind::MatArg& means, const py::object& covs,
+                       const bind::VecArg& log_weights, const bind::MatArg& situation_probabilities,
+                       const bind::VecArg& estimate, const bind::MatArg& covariance, double time, long step) {
+             // braced initialisation reads the arguments in order, so the first bad one is named
+             return RbpfSnapshot{situations_arg(situations),
+                                 means.get("means"),
+                                 covs_arg(covs),
+                                 log_weights.get("log_weights"),
+                                 situation_probabilities.get("situation_probabilities"),
+                                 estimate.get("estimate"),
+                                 covariance.get("covariance"),
+                                 time,
+                                 step};
            }),
            py::arg("situations"), py::arg("means"), py::arg("covs"), py::arg("log_weights"),
            py::arg("situation_probabilities"), py::arg("estimate"), py::arg("covariance"), py::arg("time"),
@@ -342,13 +376,20 @@ void define_module(py::module_& m) {
                          "What a ParticleFilter carries from one step to the next (ParticleFilter.save / "
                          "ParticleFilter.restore): a checkpoint, and what pickling a ParticleFilter stores. "
                          "Checked by ParticleFilter.restore.")
-      .def(py::init([](const MatX& particles, const Eigen::MatrixXi& situations, const VecX& log_weights,
-                       const MatX& situation_probabilities, const VecX& estimate, const MatX& covariance,
-                       double position_variance, const std::vector<std::uint64_t>& generators, double time,
-                       long step) {
-             return PfSnapshot{particles, situations, log_weights,       situation_probabilities,
-                               estimate,  covariance, position_variance, generators,
-                               time,      step};
+      .def(py::init([](const bind::MatArg& particles, const py::object& situations,
+                       const bind::VecArg& log_weights, const bind::MatArg& situation_probabilities,
+                       const bind::VecArg& estimate, const bind::MatArg& covariance, double position_variance,
+                       const std::vector<std::uint64_t>& generators, double time, long step) {
+             return PfSnapshot{particles.get("particles"),
+                               situations_arg(situations),
+                               log_weights.get("log_weights"),
+                               situation_probabilities.get("situation_probabilities"),
+                               estimate.get("estimate"),
+                               covariance.get("covariance"),
+                               position_variance,
+                               generators,
+                               time,
+                               step};
            }),
            py::arg("particles"), py::arg("situations"), py::arg("log_weights"),
            py::arg("situation_probabilities"), py::arg("estimate"), py::arg("covariance"),
@@ -382,8 +423,10 @@ void define_module(py::module_& m) {
                     "Rao-Blackwellized particle filter with UKF bank and merge/select (Huerta Sec. V-A/B).");
     c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
                       const situation::SightProcess& sight, const situation::QualityModel& quality,
-                      const VecX& mean, const MatX& cov, const RbpfOptions& options,
+                      const bind::VecArg& mean_in, const bind::MatArg& cov_in, const RbpfOptions& options,
                       const bind::StrictArg<double>& t0_in) {
+            const VecX mean = mean_in.get("mean");
+            const MatX cov = cov_in.get("cov");
             const double t0 = t0_in.get("t0");
             return A(motion, [&](const auto& mo) {
               using Mo = std::decay_t<decltype(mo)>;
@@ -404,7 +447,9 @@ void define_module(py::module_& m) {
          py::arg("y"), py::arg("o"), "One iteration with measurements y (m,) and quality statistics o (B,).")
         .def(
             "run",
-            [](A& a, const Eigen::Ref<const RowMat>& Y, const Eigen::Ref<const RowMat>& O) {
+            [](A& a, const bind::RowMatArg& Y_in, const bind::RowMatArg& O_in) {
+              const RowMat Y = Y_in.get("Y");
+              const RowMat O = O_in.get("O");
               return run_batch(
                   a, Y, O, [](auto& f, const VecX& y, const VecX& o) { return f.step(y, o).log_likelihood; });
             },
@@ -460,8 +505,10 @@ void define_module(py::module_& m) {
                     "Joint bootstrap particle filter over (x, s) (Huerta Sec. VI-B, PF).");
     c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
                       const situation::SightProcess& sight, const situation::QualityModel& quality,
-                      const VecX& mean, const MatX& cov, const PfOptions& options,
+                      const bind::VecArg& mean_in, const bind::MatArg& cov_in, const PfOptions& options,
                       const bind::StrictArg<double>& t0_in) {
+            const VecX mean = mean_in.get("mean");
+            const MatX cov = cov_in.get("cov");
             const double t0 = t0_in.get("t0");
             return A(motion, [&](const auto& mo) {
               using Mo = std::decay_t<decltype(mo)>;
@@ -482,7 +529,9 @@ void define_module(py::module_& m) {
          py::arg("y"), py::arg("o"))
         .def(
             "run",
-            [](A& a, const Eigen::Ref<const RowMat>& Y, const Eigen::Ref<const RowMat>& O) {
+            [](A& a, const bind::RowMatArg& Y_in, const bind::RowMatArg& O_in) {
+              const RowMat Y = Y_in.get("Y");
+              const RowMat O = O_in.get("O");
               return run_batch(
                   a, Y, O, [](auto& f, const VecX& y, const VecX& o) { return f.step(y, o).log_likelihood; });
             },
@@ -508,8 +557,10 @@ void define_module(py::module_& m) {
         "on the quality statistics, one noise set per condition weighted by its probabilities.");
     c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
                       const situation::SightProcess& sight, const situation::QualityModel& quality,
-                      const VecX& mean, const MatX& cov, const SigmaScheme& scheme,
+                      const bind::VecArg& mean_in, const bind::MatArg& cov_in, const SigmaScheme& scheme,
                       const bind::StrictArg<double>& t0_in) {
+            const VecX mean = mean_in.get("mean");
+            const MatX cov = cov_in.get("cov");
             const double t0 = t0_in.get("t0");
             return A(motion, [&](const auto& mo) {
               using Mo = std::decay_t<decltype(mo)>;
@@ -570,14 +621,17 @@ void define_module(py::module_& m) {
         .def("predict", [](A& a) { a.visit([](auto& f) { f.predict(); }); })
         .def(
             "update_with_probabilities",
-            [](A& a, const bind::VecArg& y_in, const MatX& gamma) {
+            [](A& a, const bind::VecArg& y_in, const bind::MatArg& gamma_in) {
+              const MatX gamma = gamma_in.get("gamma");
               const VecX y = y_in.get("y");
               return a.visit([&](auto& f) { return f.update_with_probabilities(y, gamma); });
             },
             py::arg("y"), py::arg("gamma"), "Update with explicit (B, N_z) condition probabilities.")
         .def(
             "run",
-            [](A& a, const Eigen::Ref<const RowMat>& Y, const Eigen::Ref<const RowMat>& O) {
+            [](A& a, const bind::RowMatArg& Y_in, const bind::RowMatArg& O_in) {
+              const RowMat Y = Y_in.get("Y");
+              const RowMat O = O_in.get("O");
               return run_batch(a, Y, O, [](auto& f, const VecX& y, const VecX& o) {
                 return f.step_quality(y, o).log_likelihood;
               });
@@ -593,8 +647,10 @@ void define_module(py::module_& m) {
         py::arg("num_particles"), "d_min = sigma^2 / (10 M), Huerta eq. (31).");
   m.def(
       "merge_greedy",
-      [](const std::vector<bind::UInt64Arg>& key_args, const MatX& means, VecX logw, double d_min,
-         bool with_pairs, int threads) -> py::tuple {
+      [](const std::vector<bind::UInt64Arg>& key_args, const bind::MatArg& means_in,
+         const bind::VecArg& logw_in, double d_min, bool with_pairs, int threads) -> py::tuple {
+        const MatX means = means_in.get("means");
+        VecX logw = logw_in.get("logw");
         std::vector<std::uint64_t> keys(key_args.size());
         for (std::size_t i = 0; i < keys.size(); ++i)
           keys[i] = key_args[i].get(("keys[" + std::to_string(i) + "]").c_str());
@@ -639,7 +695,8 @@ void define_module(py::module_& m) {
       "pool of that many threads.");
   m.def(
       "enumerate_offspring",
-      [](const MatX& A, const bind::UInt64Arg& limit_arg) {
+      [](const bind::MatArg& A_in, const bind::UInt64Arg& limit_arg) {
+        const MatX A = A_in.get("A");
         const std::uint64_t limit = limit_arg.get("limit");
         return enumerated(A, limit, [&](auto&& emit) { enumerate_offspring(A, limit, emit); });
       },
@@ -650,7 +707,8 @@ void define_module(py::module_& m) {
       "(K,) uint64 as encode_situation, sums (K,)).");
   m.def(
       "enumerate_best",
-      [](const MatX& A, const bind::UInt64Arg& limit_arg) {
+      [](const bind::MatArg& A_in, const bind::UInt64Arg& limit_arg) {
+        const MatX A = A_in.get("A");
         const std::uint64_t limit = limit_arg.get("limit");
         return enumerated(A, limit, [&](auto&& emit) { enumerate_best(A, limit, emit); });
       },
@@ -660,7 +718,8 @@ void define_module(py::module_& m) {
       "sums) as enumerate_offspring.");
   m.def(
       "select_top",
-      [](const VecX& logw, int M) {
+      [](const bind::VecArg& logw_in, int M) {
+        const VecX logw = logw_in.get("logw");
         NLOSLOC_ENSURE(M >= 1, "M: expected an integer >= 1, got " + std::to_string(M));
         check_log_weights(logw);
         std::vector<int> out;
@@ -672,7 +731,8 @@ void define_module(py::module_& m) {
       "ties by index (the prune step of Huerta Sec. V-A.3; -inf entries are never kept).");
   m.def(
       "systematic_resample",
-      [](const VecX& w, int M, double u0) {
+      [](const bind::VecArg& w_in, int M, double u0) {
+        const VecX w = w_in.get("w");
         NLOSLOC_ENSURE(w.size() >= 1 && M >= 1, "w, M: expected at least one weight and M >= 1");
         NLOSLOC_ENSURE(w.allFinite() && (w.array() >= 0.0).all() && std::abs(w.sum() - 1.0) < 1e-9,
                        "w: expected finite weights >= 0 summing to 1");

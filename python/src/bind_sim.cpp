@@ -602,7 +602,7 @@ tuple of numpy.ndarray
         if (errors.ndim() != 2)
           throw py::value_error("errors: expected a 2-D (runs, T) array, got " +
                                 std::to_string(errors.ndim()) + "-D; one run of T steps is errors[None, :]");
-        return sim::rmse_over_time(errors.cast<sim::RowMatX>());
+        return sim::rmse_over_time(nlosloc::bind::to_matrix<sim::RowMatX>(errors, "errors"));
       },
       py::arg("errors"),
       R"doc(Root mean square error at each step across runs (Ke & Wu 2011 Sec. 6.1).

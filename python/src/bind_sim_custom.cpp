@@ -77,6 +77,7 @@ class CustomScenario final : public sim::Scenario {
         if (required) throw py::value_error(where + ": missing");
         return sim::RowMatX::Constant(T, cols, std::nan(""));
       }
+      nlosloc::bind::reject_non_real(dict[key], where.c_str());
       const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(dict[key]);
       if (!a || a.ndim() != 2 || a.shape(0) != T || a.shape(1) != cols)
         throw py::value_error(where + ": expected an array of shape (" + std::to_string(T) + ", " +
@@ -116,8 +117,8 @@ class CustomScenario final : public sim::Scenario {
     d.sight = sight;
     for (const char* key : {"initial_mean", "initial_cov"})
       if (!dict.contains(key)) throw py::value_error(std::string("generate: '") + key + "': missing");
-    d.initial_mean = dict["initial_mean"].cast<VecX>();
-    d.initial_cov = dict["initial_cov"].cast<MatX>();
+    d.initial_mean = nlosloc::bind::to_vector(dict["initial_mean"], "generate: 'initial_mean'");
+    d.initial_cov = nlosloc::bind::to_matrix(dict["initial_cov"], "generate: 'initial_cov'");
     nlosloc::detail::ensure_shape(d.initial_mean, n, 1, "generate: 'initial_mean'");
     nlosloc::detail::ensure_shape(d.initial_cov, n, n, "generate: 'initial_cov'");
     if (!d.initial_mean.allFinite() || !nlosloc::is_spd(d.initial_cov))
@@ -159,7 +160,10 @@ std::shared_ptr<CustomScenario> make_custom(const std::string& name, const Measu
 void bind_sim_custom(py::module_& m) {
   m.def(
       "backdate",
-      [](const py::object& motion, const VecX& mean, const MatX& cov) {
+      [](const py::object& motion, const nlosloc::bind::VecArg& mean_in,
+         const nlosloc::bind::MatArg& cov_in) {
+        const VecX mean = mean_in.get("mean");
+        const MatX cov = cov_in.get("cov");
         return std::visit(
             [&](const auto& mo) {
               using Mo = std::decay_t<decltype(mo)>;

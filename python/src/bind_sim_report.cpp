@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "bind.hpp"
@@ -38,11 +39,18 @@ py::object item(const py::dict& d, const char* key, const std::string& where) {
 template <class T>
 T typed_item(const py::dict& d, const char* key, const std::string& where, const char* expected) {
   py::object v = item(d, key, where);
-  try {
-    return v.cast<T>();
-  } catch (const py::cast_error&) {
-    throw py::value_error(where + "['" + key + "']: expected " + expected + ", got " +
-                          std::string(py::str(py::type::of(v).attr("__name__"))));
+  const std::string name = where + "['" + key + "']";
+  if constexpr (std::is_same_v<T, nlosloc::VecX>) {
+    return nlosloc::bind::to_vector(v, name.c_str());  // bool, complex or str arrays refused, named
+  } else if constexpr (std::is_same_v<T, sim::RowMatX>) {
+    return nlosloc::bind::to_matrix<sim::RowMatX>(v, name.c_str());
+  } else {
+    try {
+      return v.cast<T>();
+    } catch (const py::cast_error&) {
+      throw py::value_error(name + ": expected " + expected + ", got " +
+                            std::string(py::str(py::type::of(v).attr("__name__"))));
+    }
   }
 }
 

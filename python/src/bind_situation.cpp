@@ -29,7 +29,10 @@ void define_module(py::module_& m) {
 
   m.def(
       "transversal_speed",
-      [](const VecX& p, const VecX& v, const VecX& q) {
+      [](const bind::VecArg& p_in, const bind::VecArg& v_in, const bind::VecArg& q_in) {
+        const VecX p = p_in.get("p");
+        const VecX v = v_in.get("v");
+        const VecX q = q_in.get("q");
         NLOSLOC_ENSURE(p.size() == v.size() && p.size() == q.size(),
                        "p, v, q: expected vectors of the same size");
         nlosloc::detail::ensure_finite(p, "p");
@@ -41,7 +44,10 @@ void define_module(py::module_& m) {
       "Transversal speed of a mobile at p with velocity v w.r.t. an anchor at q (Huerta eq. 10), m/s.");
   m.def(
       "transversal_speeds",
-      [](const VecX& p, const VecX& v, const MatX& anchors) {
+      [](const bind::VecArg& p_in, const bind::VecArg& v_in, const bind::MatArg& anchors_in) {
+        const VecX p = p_in.get("p");
+        const VecX v = v_in.get("v");
+        const MatX anchors = anchors_in.get("anchors");
         NLOSLOC_ENSURE(p.size() == v.size(), "p, v: expected vectors of the same size");
         nlosloc::detail::ensure_shape(anchors, -1, p.size(), "anchors");
         nlosloc::detail::ensure_finite(p, "p");
@@ -63,14 +69,18 @@ void define_module(py::module_& m) {
   py::class_<SightModel>(m, "SightModel",
                          "Sight chain of one anchor: fixed N_z x N_z or speed-dependent LOS/NLOS.")
       .def_static(
-          "fixed", &SightModel::fixed, py::arg("transition"), py::arg("k_sight") = 1,
-          py::arg("initial") = VecX(),
+          "fixed",
+          [](const bind::MatArg& transition, long k_sight, const bind::VecArg& initial) {
+            return SightModel::fixed(transition.get("transition"), k_sight, initial.get("initial"));
+          },
+          py::arg("transition"), py::arg("k_sight") = 1, py::arg("initial") = VecX(),
           "Fixed row-stochastic matrix (N_z, N_z); changes only every k_sight steps (Grisales eq. 16). "
           "initial (N_z,) prior of s_0, empty: stationary distribution.")
       .def_static(
           "speed_dependent",
-          static_cast<SightModel (*)(double, double, double, SpeedModel, const VecX&)>(
-              &SightModel::speed_dependent),
+          [](double mean_los, double mean_nlos, double dt, SpeedModel form, const bind::VecArg& initial) {
+            return SightModel::speed_dependent(mean_los, mean_nlos, dt, form, initial.get("initial"));
+          },
           py::arg("mean_los"), py::arg("mean_nlos"), py::arg("dt"), py::arg("form") = SpeedModel::kMultiple,
           py::arg("initial") = VecX(),
           "LOS/NLOS chain from the transversal speed (Huerta eqs. 14-18); mean lengths in m, dt in s.")
@@ -116,11 +126,22 @@ void define_module(py::module_& m) {
       .def_property_readonly("is_speed_dependent", &SightProcess::speed_dependent)
       .def("model", &SightProcess::model, py::arg("b"))
       .def("sample_initial", &SightProcess::sample_initial, py::arg("rng"))
-      .def("sample_next", &SightProcess::sample_next, py::arg("current"), py::arg("k"), py::arg("speeds"),
-           py::arg("rng"),
-           "Draws s_k (B,) from s_{k-1}; speeds (B,) transversal speeds (may be empty if unused).")
-      .def("log_transition", &SightProcess::log_transition, py::arg("from"), py::arg("to"), py::arg("k"),
-           py::arg("speeds"), "log p(s_k = to | s_{k-1} = from), eq. (9).");
+      .def(
+          "sample_next",
+          [](const SightProcess& p, const py::object& current, long k, const bind::VecArg& speeds, Rng& rng) {
+            return p.sample_next(bind::to_sight(current, "current"), k, speeds.get("speeds"), rng);
+          },
+          py::arg("current"), py::arg("k"), py::arg("speeds"), py::arg("rng"),
+          "Draws s_k (B,) from s_{k-1}; speeds (B,) transversal speeds (may be empty if unused).")
+      .def(
+          "log_transition",
+          [](const SightProcess& p, const py::object& from, const py::object& to, long k,
+             const bind::VecArg& speeds) {
+            return p.log_transition(bind::to_sight(from, "from"), bind::to_sight(to, "to"), k,
+                                    speeds.get("speeds"));
+          },
+          py::arg("from"), py::arg("to"), py::arg("k"), py::arg("speeds"),
+          "log p(s_k = to | s_{k-1} = from), eq. (9).");
 
   py::class_<QualityModel>(m, "QualityModel",
                            "Quality-statistic likelihoods p(o | s = z), one distribution per z.")
@@ -132,7 +153,8 @@ void define_module(py::module_& m) {
           py::arg("o"), py::arg("z"), "log p(o | s = z); 0 for NaN (missing).")
       .def(
           "log_likelihood",
-          [](const QualityModel& q, const VecX& o, const py::object& s) {
+          [](const QualityModel& q, const bind::VecArg& o_in, const py::object& s) {
+            const VecX o = o_in.get("o");
             return q.log_likelihood(o, bind::to_sight(s, "s"));
           },
           py::arg("o"), py::arg("s"), "log p(o | s) = sum_b log p(o_b | s_b) for o (B,) and s (B,).")
@@ -146,7 +168,8 @@ void define_module(py::module_& m) {
           py::arg("o"), "log p(o | s = z) for every z, shape (N_z,).")
       .def(
           "log_likelihood_table",
-          [](const QualityModel& q, const VecX& o) {
+          [](const QualityModel& q, const bind::VecArg& o_in) {
+            const VecX o = o_in.get("o");
             MatX out;
             q.log_likelihood_table(o, out);
             return out;
@@ -164,16 +187,20 @@ void define_module(py::module_& m) {
           py::arg("s"), py::arg("rng"), "One statistic per anchor for situation s (B,).");
 
   py::class_<ForwardFilter::Snapshot>(m, "ForwardFilterSnapshot", "State saved by ForwardFilter.save().")
-      .def(py::init([](const MatX& gamma, const MatX& pred, long k, double log_evidence) {
-             NLOSLOC_ENSURE(gamma.rows() >= 1 && gamma.cols() >= 1, "gamma: expected a (B, N_z) array");
-             // The checks of ForwardFilter::restore (forward.hpp), without a filter to take B and N_z from.
-             check_probabilities(gamma, gamma.rows(), gamma.cols(), "gamma");
-             check_probabilities(pred, gamma.rows(), gamma.cols(), "pred");
-             NLOSLOC_ENSURE(k >= 0, "k: expected a step index >= 0, got " + std::to_string(k));
-             NLOSLOC_ENSURE(std::isfinite(log_evidence), "log_evidence: expected a finite value, got " +
-                                                             nlosloc::detail::fmt_shortest(log_evidence));
-             return ForwardFilter::Snapshot{gamma, pred, k, log_evidence};
-           }),
+      .def(py::init(
+               [](const bind::MatArg& gamma_in, const bind::MatArg& pred_in, long k, double log_evidence) {
+                 const MatX gamma = gamma_in.get("gamma");
+                 const MatX pred = pred_in.get("pred");
+                 NLOSLOC_ENSURE(gamma.rows() >= 1 && gamma.cols() >= 1, "gamma: expected a (B, N_z) array");
+                 // The checks of ForwardFilter::restore (forward.hpp), without a filter to take B and N_z
+                 // from.
+                 check_probabilities(gamma, gamma.rows(), gamma.cols(), "gamma");
+                 check_probabilities(pred, gamma.rows(), gamma.cols(), "pred");
+                 NLOSLOC_ENSURE(k >= 0, "k: expected a step index >= 0, got " + std::to_string(k));
+                 NLOSLOC_ENSURE(std::isfinite(log_evidence), "log_evidence: expected a finite value, got " +
+                                                                 nlosloc::detail::fmt_shortest(log_evidence));
+                 return ForwardFilter::Snapshot{gamma, pred, k, log_evidence};
+               }),
            py::arg("gamma"), py::arg("pred"), py::arg("k"), py::arg("log_evidence"),
            "A state to restore(): gamma and pred (B, N_z) rows of probabilities (>= 0, summing to 1), step "
            "index k >= 0, last log evidence (restore() checks the shapes against the filter).")
@@ -194,13 +221,23 @@ void define_module(py::module_& m) {
       .def_property_readonly("last_log_evidence", &ForwardFilter::last_log_evidence,
                              "log p(o_t | o_1:t-1) of the last update.")
       .def("reset", &ForwardFilter::reset)
-      .def("set_probabilities", &ForwardFilter::set_probabilities, py::arg("gamma"),
-           "Replaces the probabilities (B, N_z) (rows >= 0 summing to 1); also the prior of the next update.")
-      .def("predict", &ForwardFilter::predict, py::arg("speeds") = VecX(), "Prediction, eq. (36).")
+      .def(
+          "set_probabilities",
+          [](ForwardFilter& f, const bind::MatArg& gamma) { f.set_probabilities(gamma.get("gamma")); },
+          py::arg("gamma"),
+          "Replaces the probabilities (B, N_z) (rows >= 0 summing to 1); also the prior of the next update.")
+      .def(
+          "predict", [](ForwardFilter& f, const bind::VecArg& speeds) { f.predict(speeds.get("speeds")); },
+          py::arg("speeds") = VecX(), "Prediction, eq. (36).")
       .def("update", bind::vector_method<ForwardFilter, &ForwardFilter::update>("o"), py::arg("o"),
            "Update with o (B,) (NaN = missing), eqs. (37)-(38); returns log p(o_t | o_1:t-1).")
-      .def("step", &ForwardFilter::step, py::arg("o"), py::arg("speeds") = VecX(),
-           "predict(speeds) then update(o); a rejected call changes nothing.")
+      .def(
+          "step",
+          [](ForwardFilter& f, const bind::VecArg& o, const bind::VecArg& speeds) {
+            return f.step(o.get("o"), speeds.get("speeds"));
+          },
+          py::arg("o"), py::arg("speeds") = VecX(),
+          "predict(speeds) then update(o); a rejected call changes nothing.")
       .def_property_readonly("probabilities", &ForwardFilter::probabilities, py::return_value_policy::copy,
                              "(B, N_z) P(s_b = z | o_b,1:t).")
       .def_property_readonly("predicted", &ForwardFilter::predicted, py::return_value_policy::copy)

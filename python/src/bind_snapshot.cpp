@@ -64,11 +64,20 @@ py::dict result_dict(const SnapshotResult& r) {
 template <class S, class C>
 void baseline_methods(C& c) {
   c.def(
-       "reset", [](S& s, const VecX& start) { s.reset(theta_in(start, s.solver().unknowns(), "start")); },
+       "reset",
+       [](S& s, const bind::VecArg& start_in) {
+         const VecX start = start_in.get("start");
+         s.reset(theta_in(start, s.solver().unknowns(), "start"));
+       },
        py::arg("start"),
        "Sets the start of every fix: position (D) then clock bias (RTOA stacks); forgets warm starts.")
       .def(
-          "solve", [](S& s, const VecX& y) { return result_dict(s.solve(y)); }, py::arg("y"),
+          "solve",
+          [](S& s, const bind::VecArg& y_in) {
+            const VecX y = y_in.get("y");
+            return result_dict(s.solve(y));
+          },
+          py::arg("y"),
           "Fix of one epoch y (rows of the stack, NaN = missing).\n\nReturns\n-------\ndict\n    theta "
           "(position "
           "then clock bias), valid, cost, sight (0 LOS / 1 NLOS per anchor, zeros when the method does not "
@@ -159,7 +168,8 @@ void define_module(py::module_& m) {
           "measurements", [](const LosSolver& s) { return s.stack(); }, "The measurement stack (a copy).")
       .def(
           "to_state",
-          [](const LosSolver& s, const VecX& theta) {
+          [](const LosSolver& s, const bind::VecArg& theta_arg) {
+            const VecX theta = theta_arg.get("theta");
             VecX x;
             s.to_state(theta_in(theta, s.unknowns(), "theta"), x);
             return x;
@@ -168,7 +178,9 @@ void define_module(py::module_& m) {
           "The full state vector of the stack's layout (zeros but position and clock bias) of a fix theta.")
       .def(
           "residuals",
-          [](const LosSolver& s, const VecX& y, const VecX& theta) {
+          [](const LosSolver& s, const bind::VecArg& y_in, const bind::VecArg& theta_arg) {
+            const VecX y = y_in.get("y");
+            const VecX theta = theta_arg.get("theta");
             VecX r;
             s.residuals(y, theta_in(theta, s.unknowns(), "theta"), r);
             return r;
@@ -177,8 +189,10 @@ void define_module(py::module_& m) {
           "Residuals y - g(theta) of every row (angle rows wrapped); y (rows,), theta (unknowns,).")
       .def(
           "cost",
-          [](const LosSolver& s, const VecX& y, const VecX& theta,
+          [](const LosSolver& s, const bind::VecArg& y_in, const bind::VecArg& theta_arg,
              const std::optional<std::vector<bool>>& use, const std::optional<std::vector<RowNoise>>& noise) {
+            const VecX y = y_in.get("y");
+            const VecX theta = theta_arg.get("theta");
             return s.cost(y, theta_in(theta, s.unknowns(), "theta"), flags_or_all(use, s.stack().rows()),
                           noise ? *noise : s.los_noise());
           },
@@ -195,8 +209,10 @@ void define_module(py::module_& m) {
           py::arg("mask"), "Row flags of the rows whose anchor (both for TDOA) is in the bit mask `mask`.")
       .def(
           "solve",
-          [](const LosSolver& s, const VecX& y, const VecX& theta0,
+          [](const LosSolver& s, const bind::VecArg& y_in, const bind::VecArg& theta0_in,
              const std::optional<std::vector<bool>>& use, const std::optional<std::vector<RowNoise>>& noise) {
+            const VecX y = y_in.get("y");
+            const VecX theta0 = theta0_in.get("theta0");
             return s.solve(y, theta_in(theta0, s.unknowns(), "theta0"), flags_or_all(use, s.stack().rows()),
                            noise ? *noise : s.los_noise());
           },
@@ -204,14 +220,18 @@ void define_module(py::module_& m) {
           "Fix from the rows flagged in `use` (default all) with per-row RowNoise `noise` (default LOS).")
       .def(
           "solve_los",
-          [](const LosSolver& s, const VecX& y, const VecX& theta0) {
+          [](const LosSolver& s, const bind::VecArg& y_in, const bind::VecArg& theta0_in) {
+            const VecX y = y_in.get("y");
+            const VecX theta0 = theta0_in.get("theta0");
             return s.solve_los(y, theta_in(theta0, s.unknowns(), "theta0"));
           },
           py::arg("y"), py::arg("theta0"),
           "Fix from every row with the LOS Gaussian noise (MLE-LOS): solve(y, theta0) with the defaults.")
       .def(
           "linear_start",
-          [](const LosSolver& s, const VecX& y, const std::optional<std::vector<bool>>& use) -> py::object {
+          [](const LosSolver& s, const bind::VecArg& y_in,
+             const std::optional<std::vector<bool>>& use) -> py::object {
+            const VecX y = y_in.get("y");
             Theta t;
             if (!s.linear_start(y, flags_or_all(use, s.stack().rows()), t)) return py::none();
             return py::cast(theta_out(t));

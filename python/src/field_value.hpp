@@ -3,7 +3,8 @@
 /// Strict conversion of one Python value to a C++ scalar or registered type, with errors that name the
 /// receiver: the option and parameter fields (`QpBiasEkfOptions.gamma`), and through StrictArg the time
 /// arguments (`t0`), sizes (`n`) and the scalar arguments of some constructors (`Normal(mean, std)`); and of
-/// one float vector (to_vector: measurement vectors `y`, `o`, `z`, samples).
+/// float vectors and matrices (to_vector, to_matrix: measurements `y`, `o`, `z`, means, covariances,
+/// anchors, batches), whose bool, complex or str arrays numpy would cast to float64 without an error.
 /// pybind11's own casters, used by def_readwrite and plain double/int arguments, take None and 0.5 as
 /// False for a bool field, True as 1.0 for a float, and refuse a wrong type with "incompatible function
 /// arguments" (TypeError) that shows the signature but not the field. Here a bool is a bool (True, False,
@@ -110,31 +111,70 @@ T to_integer(py::handle v0, const std::string& what) {
 
 }  // namespace field_detail
 
-/// A complex array would be cast to its real part without a word (numpy only warns): refused, named.
-inline void reject_complex(const pybind11::handle& o, const char* name) {
+/// numpy dtype kinds that a cast to float64 would take without a word: bool (True as 1.0), complex (the
+/// imaginary part dropped; numpy only warns), str and bytes (parsed), datetimes, structured records.
+/// Refused, named; float, integer and object arrays (whose elements numpy converts one by one) pass.
+inline void reject_non_real(const pybind11::handle& o, const char* name) {
   namespace py = pybind11;
-  if (py::isinstance<py::array>(o) && py::reinterpret_borrow<py::array>(o).dtype().kind() == 'c')
-    throw std::invalid_argument(std::string(name) + ": expected real values, got a complex array");
+  if (o.is_none() || PyUnicode_Check(o.ptr()) || PyBytes_Check(o.ptr())) return;  // the caller names them
+  py::array a;
+  if (py::isinstance<py::array>(o)) {
+    a = py::reinterpret_borrow<py::array>(o);
+  } else if (PySequence_Check(o.ptr())) {
+    a = py::array::ensure(o);  // np.asarray: the dtype numpy infers ([True, False]: bool)
+    if (!a) return;            // not array-like: the caller's cast names it
+  } else {
+    return;
+  }
+  const char kind = a.dtype().kind();
+  if (kind == 'f' || kind == 'i' || kind == 'u' || kind == 'O') return;
+  const char* what = kind == 'b'   ? "bool"
+                     : kind == 'c' ? "complex"
+                     : kind == 'U' ? "str"
+                     : kind == 'S' ? "bytes"
+                                   : "non-numeric";
+  throw std::invalid_argument(std::string(name) + ": expected real values, got a " + what + " array");
 }
 
-/// A float vector from a Python object (a 1-D array or sequence of numbers), or std::invalid_argument
-/// naming it: pybind11's own cast would raise a bare RuntimeError. The callee checks the size and values.
-inline VecX to_vector(const pybind11::handle& o, const char* name) {
+namespace field_detail {
+/// o as a C-contiguous float64 array of `ndim` dimensions, or std::invalid_argument naming it ("expected a
+/// 1-D float array, got None"); pybind11's Eigen caster raised "incompatible function arguments" or cast.
+inline pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast> float_array(
+    const pybind11::handle& o, const char* name, int ndim) {
   namespace py = pybind11;
+  const std::string expected =
+      std::string(name) + ": expected a " + std::to_string(ndim) + "-D float array, got ";
   if (o.is_none())  // numpy reads None as a 0-d NaN array
-    throw std::invalid_argument(std::string(name) + ": expected a 1-D float array, got None");
-  reject_complex(o, name);
+    throw std::invalid_argument(expected + "None");
+  reject_non_real(o, name);
   const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
-  if (!a || a.ndim() != 1)
-    throw std::invalid_argument(std::string(name) + ": expected a 1-D float array, got " +
-                                (a ? std::to_string(a.ndim()) + " dimensions"
-                                   : std::string(py::str(py::type::of(o).attr("__name__")))));
+  if (!a || a.ndim() != ndim)
+    throw std::invalid_argument(expected + (a ? std::to_string(a.ndim()) + " dimensions"
+                                              : std::string(py::str(py::type::of(o).attr("__name__")))));
+  return a;
+}
+}  // namespace field_detail
+
+/// A float vector from a Python object (a 1-D array or sequence of numbers), or std::invalid_argument
+/// naming it. The callee checks the size and values.
+inline VecX to_vector(const pybind11::handle& o, const char* name) {
+  const auto a = field_detail::float_array(o, name, 1);
   return Eigen::Map<const VecX>(a.data(), a.shape(0));
 }
 
+/// A float matrix (M: MatX or a row-major matrix) from a 2-D array or nested sequence, or
+/// std::invalid_argument naming it. pybind11's caster read a 1-D array as a column: refused here, since
+/// for every matrix argument of the bindings (covariances, anchors, batches of rows) it is a mistake.
+template <class M = MatX>
+M to_matrix(const pybind11::handle& o, const char* name) {
+  const auto a = field_detail::float_array(o, name, 2);
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  return M(Eigen::Map<const RowMajor>(a.data(), a.shape(0), a.shape(1)));
+}
+
 /// `v` as a T, or TypeError/ValueError beginning with `what` (the field or argument name). Scalars follow
-/// the rules of the file comment, a VecX is to_vector's; any other T (an enum, a struct) is pybind11's
-/// cast, its failure named.
+/// the rules of the file comment, a VecX is to_vector's, a MatX or row-major matrix to_matrix's; any other T
+/// (an enum, a struct) is pybind11's cast, its failure named.
 template <class T>
 T field_value(pybind11::handle v, const std::string& what) {
   namespace py = pybind11;
@@ -146,6 +186,10 @@ T field_value(pybind11::handle v, const std::string& what) {
     return field_detail::to_integer<T>(v, what);
   } else if constexpr (std::is_same_v<T, VecX>) {
     return to_vector(v, what.c_str());
+  } else if constexpr (std::is_same_v<T, MatX> ||
+                       std::is_same_v<
+                           T, Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>) {
+    return to_matrix<T>(v, what.c_str());
   } else {
     try {
       return py::cast<T>(v);
@@ -168,6 +212,18 @@ struct StrictArg {
   pybind11::object obj;
   T get(const char* name) const { return field_value<T>(obj, name); }
 };
+
+/// A float vector argument, converted by to_vector (field_value.hpp) when the function reads it (get), so
+/// a wrong shape or type raises ValueError naming the argument. pybind11's Eigen caster refuses it with a
+/// TypeError about the whole signature ("incompatible function arguments"), e.g. for a (1, m) row sliced
+/// from a (T, m) array. Only for functions without overloads: the caster accepts any object.
+using VecArg = StrictArg<VecX>;
+/// A float matrix argument, converted by to_matrix the same way (bool, complex or str arrays, None and
+/// arrays of other than 2 dimensions refused, named): covariances, anchors, gains.
+using MatArg = StrictArg<MatX>;
+/// A row-major float matrix argument (to_matrix): the (T, m) batches of run().
+using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RowMatArg = StrictArg<RowMat>;
 
 namespace field_detail {
 template <class T, class... A, std::size_t... I>

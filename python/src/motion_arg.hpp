@@ -61,11 +61,11 @@ template <class A, class Cls>
 void def_set_belief(Cls& c) {
   c.def(
       "set_belief",
-      [](A& a, const VecX& mean, const MatX& cov, const std::optional<bind::StrictArg<double>>& t_in) {
+      [](A& a, const VecArg& mean, const MatArg& cov, const std::optional<bind::StrictArg<double>>& t_in) {
         const std::optional<double> t = bind::optional_get(t_in, "t");
         a.visit([&](auto& f) {
           constexpr int N = std::decay_t<decltype(f)>::kDim;
-          const Gaussian<N> g = to_gaussian<N>(mean, cov, "mean", "cov");
+          const Gaussian<N> g = to_gaussian<N>(mean.get("mean"), cov.get("cov"), "mean", "cov");
           if (t)
             f.set_belief(g, *t);
           else
@@ -83,7 +83,7 @@ void def_set_belief(Cls& c) {
 inline Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> to_int_rows(
     const pybind11::handle& o, const char* name, int* ndim) {
   namespace py = pybind11;
-  reject_complex(o, name);
+  reject_non_real(o, name);
   const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
   if (!a || a.ndim() < 1 || a.ndim() > 2)
     throw std::invalid_argument(std::string(name) + ": expected an integer array of 1 or 2 dimensions");
@@ -104,12 +104,6 @@ inline Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> to_in
     }
   return out;
 }
-
-/// A float vector argument, converted by to_vector (field_value.hpp) when the function reads it (get), so
-/// a wrong shape or type raises ValueError naming the argument. pybind11's Eigen caster refuses it with a
-/// TypeError about the whole signature ("incompatible function arguments"), e.g. for a (1, m) row sliced
-/// from a (T, m) array. Only for functions without overloads: the caster accepts any object.
-using VecArg = StrictArg<VecX>;
 
 /// Binds a method of T taking one vector (z, o, ...) through VecArg, so its errors name `name`.
 template <class T, auto Method>

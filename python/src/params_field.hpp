@@ -58,7 +58,8 @@ void fixed_field(C& c, const char* name, std::string qualified, const char* doc)
   using Py = std::conditional_t<T::ColsAtCompileTime == 1, VecX, MatX>;  // (n,) for vectors
   c.def_property(
       name, [](const P& p) { return Py(p.*Field); },
-      [qualified = std::move(qualified)](P& p, const Py& v) {
+      [qualified = std::move(qualified)](P& p, const StrictArg<Py>& in) {
+        const Py v = in.get(qualified.c_str());
         detail::ensure_shape(v, T::RowsAtCompileTime, T::ColsAtCompileTime, qualified.c_str());
         p.*Field = v;
       },

@@ -456,7 +456,10 @@ def test_iukf_step_names_a_misshaped_o():
     f = rbpf.Iukf(MOTION6, stack6(), SIGHT, QUALITY, X06, P06)
     with pytest.raises(ValueError, match=r"^o: expected a 1-D float array, got 2 dimensions$"):
         f.step(Y[0], Q[0].reshape(2, 3))
-    with pytest.raises(ValueError, match=r"^o: expected a 1-D float array, got list$"):
+    with pytest.raises(ValueError, match=r"^o: expected a 1-D float array, got str$"):
+        f.step(Y[0], "abcdef")
+    # numpy reads a list of str as a str array, which it would parse
+    with pytest.raises(ValueError, match=r"^o: expected real values, got a str array$"):
         f.step(Y[0], ["a"] * 6)
     with pytest.raises(ValueError, match=r"^o: expected shape \(6, 1\), got \(5, 1\)$"):
         f.step(Y[0], Q[0][:5])

@@ -124,6 +124,13 @@ def test_an_osqp_solver_tracks_as_the_default() -> None:
         (np.zeros(2), ValueError, r"solve\(\) of 'Returns' returned an array of shape \(2,\); "),
         ("abc", ValueError, r"returned an object of type str; expected the 3 values"),
         (lambda n: np.full(n, -1.0), ValueError, r"returned x\[0\] = -1.0 outside \[0.0, "),
+        # numpy cast these to float64 (the imaginary part dropped with a warning, True as 1.0)
+        (
+            lambda n: np.full(n, 1.0 + 0j),
+            ValueError,
+            r"^solver: solve\(\) of 'Returns': expected real values, got a complex array$",
+        ),
+        (lambda n: np.ones(n, bool), ValueError, r"^solver: solve\(\) of 'Returns': expected real"),
         (ZeroDivisionError("inside"), ZeroDivisionError, "inside"),
     ],
 )

@@ -159,7 +159,7 @@ class Ekf:
         """
         Prediction x = F x, P = F P F^T + Q; time advances by dt.
         """
-    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], sight: typing.Any = None) -> dict:
+    def run(self, Y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], sight: typing.Any = None) -> dict:
         """
         Runs step() over the rows of Y (T, m) in one call (GIL released). sight: None, (B,) or (T, B). Returns a dict with mean (T, n), cov (T, n, n), log_likelihood (T,), rows_used (T,).
         """
@@ -215,7 +215,7 @@ class Ukf:
         """
         Prediction x = F x, P = F P F^T + Q; time advances by dt.
         """
-    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], sight: typing.Any = None) -> dict:
+    def run(self, Y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], sight: typing.Any = None) -> dict:
         """
         Runs step() over the rows of Y (T, m) in one call (GIL released). sight: None, (B,) or (T, B). Returns a dict with mean (T, n), cov (T, n, n), log_likelihood (T,), rows_used (T,).
         """
@@ -281,7 +281,7 @@ class UkfAugmented:
         """
         Prediction x = F x, P = F P F^T + Q; time advances by dt.
         """
-    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], sight: typing.Any = None) -> dict:
+    def run(self, Y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], sight: typing.Any = None) -> dict:
         """
         Runs step() over the rows of Y (T, m) in one call (GIL released). sight: None, (B,) or (T, B). Returns a dict with mean (T, n), cov (T, n, n), log_likelihood (T,), rows_used (T,).
         """

@@ -375,7 +375,7 @@ class BiasEstimator:
         """
         Biases of ranges z (M,) with noise variances (M,) (eqs. 9-15); returns a BiasEstimate copy.
         """
-    def estimate_from_innovation(self, z: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], innovation: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], D: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.f_contiguous"]) -> BiasEstimate:
+    def estimate_from_innovation(self, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], innovation: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], D: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> BiasEstimate:
         """
         Eqs. (12)-(15) referenced to a tracker's prediction: r = innovation (M,) (eq. 26), L = I, Sigma_v = D (M, M) (eq. 27: F P F^T + R), bounds from the ranges z (M,); returns a BiasEstimate copy. D must be finite, symmetric and positive definite, else ValueError naming D (the estimator unchanged).
         """

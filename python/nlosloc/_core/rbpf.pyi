@@ -162,7 +162,7 @@ class RbpfSnapshot:
     """
     What an Rbpf carries from one step to the next (Rbpf.save / Rbpf.restore): a checkpoint, and what pickling an Rbpf stores. Checked by Rbpf.restore.
     """
-    def __init__(self, situations: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"], means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], covs: collections.abc.Sequence[typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]], log_weights: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], situation_probabilities: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], estimate: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], covariance: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], time: typing.SupportsFloat | typing.SupportsIndex, step: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def __init__(self, situations: typing.Any, means: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], covs: typing.Any, log_weights: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], situation_probabilities: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], estimate: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], covariance: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], time: typing.SupportsFloat | typing.SupportsIndex, step: typing.SupportsInt | typing.SupportsIndex) -> None:
         """
         situations (P, B) condition indices, means (P, n), covs: P arrays (n, n) (or one (P, n, n)), log_weights (P,) normalised, situation_probabilities (B, N_z), estimate (n,), covariance (n, n), time (s), step (steps since the reset; 0: the next step draws from the initial sight).
         """
@@ -277,7 +277,7 @@ class PfSnapshot:
     What a ParticleFilter carries from one step to the next (ParticleFilter.save / ParticleFilter.restore): a checkpoint, and what pickling a ParticleFilter stores. Checked by ParticleFilter.restore.
     """
     GENERATOR_WORDS: typing.ClassVar[int] = 87
-    def __init__(self, particles: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], situations: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"], log_weights: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], situation_probabilities: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], estimate: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], covariance: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], position_variance: typing.SupportsFloat | typing.SupportsIndex, generators: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], time: typing.SupportsFloat | typing.SupportsIndex, step: typing.SupportsInt | typing.SupportsIndex) -> None:
+    def __init__(self, particles: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], situations: typing.Any, log_weights: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], situation_probabilities: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], estimate: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], covariance: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], position_variance: typing.SupportsFloat | typing.SupportsIndex, generators: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], time: typing.SupportsFloat | typing.SupportsIndex, step: typing.SupportsInt | typing.SupportsIndex) -> None:
         """
         particles (n, M), situations (B, M) condition indices, log_weights (M,) normalised, situation_probabilities (B, N_z), estimate (n,), covariance (n, n), position_variance (eq. 31's input), generators (GENERATOR_WORDS words per thread, as save() gives them), time (s), step.
         """
@@ -377,7 +377,7 @@ class Rbpf:
         """
         Sets the filter to a snapshot (checked first: ValueError naming the field, nothing changed).
         """
-    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], O: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> dict:
+    def run(self, Y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], O: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> dict:
         """
         step() over the rows of Y (T, m) and O (T, B), GIL released. Returns a dict of mean (T, n), cov (T, n, n), situation_probabilities (T, B, N_z), log_likelihood (T,).
         """
@@ -480,7 +480,7 @@ class ParticleFilter:
         """
         Sets the filter to a snapshot (checked first: ValueError naming the field, nothing changed).
         """
-    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], O: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> dict:
+    def run(self, Y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], O: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> dict:
         """
         As Rbpf.run.
         """
@@ -574,7 +574,7 @@ class Iukf:
         """
     def predict(self) -> None:
         ...
-    def run(self, Y: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], O: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> dict:
+    def run(self, Y: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], O: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> dict:
         """
         As Rbpf.run.
         """

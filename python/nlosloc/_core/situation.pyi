@@ -130,7 +130,7 @@ class SightProcess:
     @typing.overload
     def __init__(self, model: SightModel, num_anchors: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
-    def log_transition(self, from: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], to: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], k: typing.SupportsInt | typing.SupportsIndex, speeds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> float:
+    def log_transition(self, from: typing.Any, to: typing.Any, k: typing.SupportsInt | typing.SupportsIndex, speeds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> float:
         """
         log p(s_k = to | s_{k-1} = from), eq. (9).
         """
@@ -138,7 +138,7 @@ class SightProcess:
         ...
     def sample_initial(self, rng: nlosloc._core.core.Rng) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         ...
-    def sample_next(self, current: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], k: typing.SupportsInt | typing.SupportsIndex, speeds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], rng: nlosloc._core.core.Rng) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+    def sample_next(self, current: typing.Any, k: typing.SupportsInt | typing.SupportsIndex, speeds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], rng: nlosloc._core.core.Rng) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         """
         Draws s_k (B,) from s_{k-1}; speeds (B,) transversal speeds (may be empty if unused).
         """
@@ -226,7 +226,7 @@ class ForwardFilter:
         ...
     def argmax(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         ...
-    def predict(self, speeds: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"] = ...) -> None:
+    def predict(self, speeds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] = ...) -> None:
         """
         Prediction, eq. (36).
         """
@@ -244,7 +244,7 @@ class ForwardFilter:
         """
         Replaces the probabilities (B, N_z) (rows >= 0 summing to 1); also the prior of the next update.
         """
-    def step(self, o: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], speeds: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"] = ...) -> float:
+    def step(self, o: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], speeds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"] = ...) -> float:
         """
         predict(speeds) then update(o); a rejected call changes nothing.
         """
