@@ -187,12 +187,6 @@ std::unique_ptr<BoxQp> box_qp_from_state(const py::tuple& t) {
   return q;
 }
 
-Gaussian<4> to_belief4(const VecX& mean, const MatX& cov) {
-  nlosloc::detail::ensure_shape(mean, 4, 1, "mean");
-  nlosloc::detail::ensure_shape(cov, 4, 4, "cov");
-  return Gaussian<4>(mean, cov);
-}
-
 /// Row-major (T, M) batch of ranges.
 using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -485,7 +479,8 @@ void define_module(pybind11::module_& m) {
              // "default": QpBiasEkf's own choice (EnumerationBoxQp for the prediction reference, M <= 8)
              std::unique_ptr<BoxQp> qp =
                  solver_arg(solver, static_cast<int>(std::max<Eigen::Index>(anchors.rows(), 1)), {}, true);
-             return std::make_unique<QpBiasEkf>(motion, anchors, to_belief4(mean, cov), o, std::move(qp), t0);
+             return std::make_unique<QpBiasEkf>(motion, anchors, bind::to_gaussian<4>(mean, cov), o,
+                                                std::move(qp), t0);
            }),
            py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
            py::arg_v("options", QpBiasEkfOptions(), "QpBiasEkfOptions()"), py::arg("solver") = "default",
@@ -567,7 +562,7 @@ void define_module(pybind11::module_& m) {
             const VecX mean = mean_in.get("mean");
             const MatX cov = cov_in.get("cov");
             const std::optional<double> t = bind::optional_get(t_in, "t");
-            f.set_belief(to_belief4(mean, cov), t.value_or(f.time()));
+            f.set_belief(bind::to_gaussian<4>(mean, cov), t.value_or(f.time()));
           },
           py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
           "Replaces the belief and, when t is given, the time; clears the last bias and decision.");
@@ -600,7 +595,7 @@ void define_module(pybind11::module_& m) {
              const VecX mean = mean_in.get("mean");
              const MatX cov = cov_in.get("cov");
              const double t0 = t0_in.get("t0");
-             return BiasAugmentedEkf(motion, anchors, to_belief4(mean, cov), o, t0);
+             return BiasAugmentedEkf(motion, anchors, bind::to_gaussian<4>(mean, cov), o, t0);
            }),
            py::arg("motion"), py::arg("anchors"), py::arg("mean"), py::arg("cov"),
            py::arg_v("options", BiasAugmentedEkfOptions(), "BiasAugmentedEkfOptions()"), py::arg("t0") = 0.0)
@@ -632,7 +627,7 @@ void define_module(pybind11::module_& m) {
             const VecX mean = mean_in.get("mean");
             const MatX cov = cov_in.get("cov");
             const std::optional<double> t = bind::optional_get(t_in, "t");
-            f.set_belief(to_belief4(mean, cov), t.value_or(f.time()));
+            f.set_belief(bind::to_gaussian<4>(mean, cov), t.value_or(f.time()));
           },
           py::arg("mean"), py::arg("cov"), py::arg("t") = py::none(),
           "Sets the kinematic belief and, when t is given, the time; resets the biases to the prior.")

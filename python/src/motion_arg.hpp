@@ -44,15 +44,13 @@ Gaussian<N> to_gaussian(const VecX& mean, const MatX& cov, const char* mname = "
   return Gaussian<N>(mean, cov);
 }
 
-/// to_gaussian, and the belief checked as Gaussian::validate does (finite mean, symmetric positive definite
-/// cov), each error naming the Python argument.
+/// to_gaussian, and the belief checked by Gaussian::validate (finite mean, symmetric positive definite cov),
+/// each error naming the Python argument.
 template <int N>
 Gaussian<N> to_belief(const VecX& mean, const MatX& cov, const char* mname = "mean",
                       const char* cname = "cov") {
   Gaussian<N> g = to_gaussian<N>(mean, cov, mname, cname);
-  detail::ensure_finite(g.mean, mname);
-  if (!is_spd(g.cov))
-    detail::throw_invalid_argument(std::string(cname) + ": expected a symmetric positive definite matrix");
+  g.validate(mname, cname);
   return g;
 }
 

@@ -26,11 +26,15 @@ struct Gaussian {
 
   /// Throws std::invalid_argument naming `name` unless mean is finite and cov is symmetric PD.
   void validate(const char* name = "belief") const {
-    detail::ensure_shape(cov, mean.size(), mean.size(), (std::string(name) + ".cov").c_str());
-    detail::ensure_finite(mean, (std::string(name) + ".mean").c_str());
+    validate((std::string(name) + ".mean").c_str(), (std::string(name) + ".cov").c_str());
+  }
+  /// validate() with the errors naming the mean and the covariance as given (the arguments of a binding).
+  void validate(const char* mean_name, const char* cov_name) const {
+    detail::ensure_shape(cov, mean.size(), mean.size(), cov_name);
+    detail::ensure_finite(mean, mean_name);
     if (!is_spd(cov))
-      detail::throw_invalid_argument(std::string(name) +
-                                     ".cov: expected a symmetric positive definite matrix");
+      detail::throw_invalid_argument(std::string(cov_name) +
+                                     ": expected a symmetric positive definite matrix");
   }
 };
 

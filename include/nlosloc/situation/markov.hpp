@@ -231,14 +231,7 @@ class SightModel {
         out.setIdentity();  // eq. (16), otherwise
       return;
     }
-    switch (form_) {
-      case SpeedModel::kSingle: out = speed_transition_single(w, dt_, mean_los_, mean_nlos_); break;
-      case SpeedModel::kMemoryless:  // eq. (18) does not depend on w, but w is checked as for (15), (17)
-        nlosloc::detail::ensure_nonnegative(w, "w");
-        out = Q_;
-        break;
-      default: out = speed_transition_multiple(w, dt_, mean_los_, mean_nlos_); break;
-    }
+    out = speed_matrix(w);
   }
   /// Convenience form of transition() returning the matrix.
   MatX transition(long k, double w = 0.0) const {
@@ -255,16 +248,7 @@ class SightModel {
       if (!is_change_step(k)) return current;
       return detail::sample_row(Q_.row(current), rng);
     }
-    Mat<2, 2> T;
-    switch (form_) {
-      case SpeedModel::kSingle: T = speed_transition_single(w, dt_, mean_los_, mean_nlos_); break;
-      case SpeedModel::kMemoryless:
-        nlosloc::detail::ensure_nonnegative(w, "w");
-        T = Q_;
-        break;
-      default: T = speed_transition_multiple(w, dt_, mean_los_, mean_nlos_); break;
-    }
-    return detail::sample_row(T.row(current), rng);
+    return detail::sample_row(speed_matrix(w).row(current), rng);
   }
   /// Draws s_0 from initial().
   int sample_initial(Rng& rng) const { return detail::sample_row(initial_, rng); }
@@ -277,6 +261,16 @@ class SightModel {
 
  private:
   enum class Kind { kFixed, kSpeed };
+  /// The speed model's 2 x 2 matrix at transversal speed w: eq. (15), (17) or (18).
+  Mat<2, 2> speed_matrix(double w) const {
+    switch (form_) {
+      case SpeedModel::kSingle: return speed_transition_single(w, dt_, mean_los_, mean_nlos_);
+      case SpeedModel::kMemoryless:  // eq. (18) does not depend on w, but w is checked as for (15), (17)
+        nlosloc::detail::ensure_nonnegative(w, "w");
+        return Q_;
+      default: return speed_transition_multiple(w, dt_, mean_los_, mean_nlos_);
+    }
+  }
   void set_initial(const VecX& initial) {
     if (initial.size() == 0) {
       initial_ = detail::stationary_distribution(Q_);
