@@ -184,29 +184,6 @@ void check_log_weights(const VecX& logw) {
                  "logw: expected log weights that are finite or -inf (no NaN, no +inf)");
 }
 
-/// Condition indices of a snapshot from a 2-D integer array (to_int_rows: 0.5 or True refused), named.
-Eigen::MatrixXi situations_arg(const py::object& o) {
-  int ndim = 0;
-  Eigen::MatrixXi s = bind::to_int_rows(o, "situations", &ndim);
-  if (ndim != 2) throw std::invalid_argument("situations: expected a 2-D integer array");
-  return s;
-}
-
-/// P covariances from a sequence of (n, n) float arrays or one (P, n, n) array, each read by to_matrix
-/// under its own name (covs[i]).
-std::vector<MatX> covs_arg(const py::object& o) {
-  if (!PySequence_Check(o.ptr()) || PyUnicode_Check(o.ptr()) || PyBytes_Check(o.ptr()))
-    throw std::invalid_argument(
-        "covs: expected a sequence of (n, n) float arrays or a (P, n, n) array, got " +
-        std::string(py::str(py::type::of(o).attr("__name__"))));
-  const auto seq = py::reinterpret_borrow<py::sequence>(o);
-  std::vector<MatX> out;
-  out.reserve(seq.size());
-  for (std::size_t i = 0; i < seq.size(); ++i)
-    out.push_back(bind::to_matrix(seq[i], ("covs[" + std::to_string(i) + "]").c_str()));
-  return out;
-}
-
 /// Per-anchor log factors A (B, N_z) of the offspring enumerations: B, N_z >= 1, no NaN or +inf (-inf: a
 /// condition ruled out).
 void check_factors(const MatX& A) {
@@ -302,13 +279,14 @@ void define_module(py::module_& m) {
   py::class_<RbpfSnapshot>(m, "RbpfSnapshot",
                            "What an Rbpf carries from one step to the next (Rbpf.save / Rbpf.restore): a "
                            "checkpoint, and what pickling an Rbpf stores. Checked by Rbpf.restore.")
-      .def(py::init([](const py::object& situations, const bind::MatArg& means, const py::object& covs,
-                       const bind::VecArg& log_weights, const bind::MatArg& situation_probabilities,
-                       const bind::VecArg& estimate, const bind::MatArg& covariance, double time, long step) {
+      .def(py::init([](const bind::StrictArg<Eigen::MatrixXi>& situations, const bind::MatArg& means,
+                       const bind::StrictArg<std::vector<MatX>>& covs, const bind::VecArg& log_weights,
+                       const bind::MatArg& situation_probabilities, const bind::VecArg& estimate,
+                       const bind::MatArg& covariance, double time, long step) {
              // braced initialisation reads the arguments in order, so the first bad one is named
-             return RbpfSnapshot{situations_arg(situations),
+             return RbpfSnapshot{situations.get("situations"),
                                  means.get("means"),
-                                 covs_arg(covs),
+                                 covs.get("covs"),
                                  log_weights.get("log_weights"),
                                  situation_probabilities.get("situation_probabilities"),
                                  estimate.get("estimate"),
@@ -376,12 +354,12 @@ void define_module(py::module_& m) {
                          "What a ParticleFilter carries from one step to the next (ParticleFilter.save / "
                          "ParticleFilter.restore): a checkpoint, and what pickling a ParticleFilter stores. "
                          "Checked by ParticleFilter.restore.")
-      .def(py::init([](const bind::MatArg& particles, const py::object& situations,
+      .def(py::init([](const bind::MatArg& particles, const bind::StrictArg<Eigen::MatrixXi>& situations,
                        const bind::VecArg& log_weights, const bind::MatArg& situation_probabilities,
                        const bind::VecArg& estimate, const bind::MatArg& covariance, double position_variance,
                        const std::vector<std::uint64_t>& generators, double time, long step) {
              return PfSnapshot{particles.get("particles"),
-                               situations_arg(situations),
+                               situations.get("situations"),
                                log_weights.get("log_weights"),
                                situation_probabilities.get("situation_probabilities"),
                                estimate.get("estimate"),

@@ -128,17 +128,15 @@ void define_module(py::module_& m) {
       .def("sample_initial", &SightProcess::sample_initial, py::arg("rng"))
       .def(
           "sample_next",
-          [](const SightProcess& p, const py::object& current, long k, const bind::VecArg& speeds, Rng& rng) {
-            return p.sample_next(bind::to_sight(current, "current"), k, speeds.get("speeds"), rng);
-          },
+          [](const SightProcess& p, const bind::StrictArg<VecXi>& current, long k, const bind::VecArg& speeds,
+             Rng& rng) { return p.sample_next(current.get("current"), k, speeds.get("speeds"), rng); },
           py::arg("current"), py::arg("k"), py::arg("speeds"), py::arg("rng"),
           "Draws s_k (B,) from s_{k-1}; speeds (B,) transversal speeds (may be empty if unused).")
       .def(
           "log_transition",
-          [](const SightProcess& p, const py::object& from, const py::object& to, long k,
-             const bind::VecArg& speeds) {
-            return p.log_transition(bind::to_sight(from, "from"), bind::to_sight(to, "to"), k,
-                                    speeds.get("speeds"));
+          [](const SightProcess& p, const bind::StrictArg<VecXi>& from, const bind::StrictArg<VecXi>& to,
+             long k, const bind::VecArg& speeds) {
+            return p.log_transition(from.get("from"), to.get("to"), k, speeds.get("speeds"));
           },
           py::arg("from"), py::arg("to"), py::arg("k"), py::arg("speeds"),
           "log p(s_k = to | s_{k-1} = from), eq. (9).");

@@ -15,6 +15,7 @@
 #include <pybind11/pybind11.h>
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -24,6 +25,7 @@
 #include <type_traits>
 #include <typeinfo>
 #include <utility>
+#include <vector>
 
 #include "nlosloc/core/types.hpp"
 
@@ -172,8 +174,62 @@ M to_matrix(const pybind11::handle& o, const char* name) {
   return M(Eigen::Map<const RowMajor>(a.data(), a.shape(0), a.shape(1)));
 }
 
+/// Sight conditions (or any integer labels) from a 1-D or 2-D Python array, row-major (1-D: one row);
+/// *ndim receives the array's dimensions. Values must be integers (floats with integral values are
+/// accepted): an implicit cast would turn 0.5 into condition 0 without a word. The callee checks the
+/// range and the shape.
+inline Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> to_int_rows(
+    const pybind11::handle& o, const char* name, int* ndim) {
+  namespace py = pybind11;
+  reject_non_real(o, name);
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
+  if (!a || a.ndim() < 1 || a.ndim() > 2)
+    throw std::invalid_argument(std::string(name) + ": expected an integer array of 1 or 2 dimensions");
+  *ndim = static_cast<int>(a.ndim());
+  const Eigen::Index rows = a.ndim() == 2 ? a.shape(0) : 1;
+  const Eigen::Index cols = a.shape(a.ndim() - 1);
+  Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> out(rows, cols);
+  const double* d = a.data();
+  for (Eigen::Index r = 0; r < rows; ++r)
+    for (Eigen::Index c = 0; c < cols; ++c) {
+      const double v = d[r * cols + c];
+      if (!(std::floor(v) == v) || std::fabs(v) > 2147483647.0)
+        throw std::invalid_argument(std::string(name) + ": expected integers, got " + std::to_string(v) +
+                                    " at " +
+                                    (*ndim == 2 ? "(" + std::to_string(r) + ", " + std::to_string(c) + ")"
+                                                : "entry " + std::to_string(c)));
+      out(r, c) = static_cast<int>(v);
+    }
+  return out;
+}
+
+/// A (B,) vector of sight conditions (to_int_rows; a 1-D array required).
+inline VecXi to_sight(const pybind11::handle& o, const char* name = "sight") {
+  int ndim = 0;
+  const auto m = to_int_rows(o, name, &ndim);
+  if (ndim != 1) throw std::invalid_argument(std::string(name) + ": expected a 1-D integer array (B,)");
+  return m.row(0).transpose();
+}
+
+/// A list of matrices from a sequence of 2-D arrays or one 3-D array, each read by to_matrix under its own
+/// name (covs[i]).
+inline std::vector<MatX> to_matrices(const pybind11::handle& o, const char* name) {
+  namespace py = pybind11;
+  if (!PySequence_Check(o.ptr()) || PyUnicode_Check(o.ptr()) || PyBytes_Check(o.ptr()))
+    throw std::invalid_argument(std::string(name) +
+                                ": expected a sequence of 2-D float arrays or one 3-D array, got " +
+                                std::string(py::str(py::type::of(o).attr("__name__"))));
+  const auto seq = py::reinterpret_borrow<py::sequence>(o);
+  std::vector<MatX> out;
+  out.reserve(seq.size());
+  for (std::size_t i = 0; i < seq.size(); ++i)
+    out.push_back(to_matrix(seq[i], (std::string(name) + "[" + std::to_string(i) + "]").c_str()));
+  return out;
+}
+
 /// `v` as a T, or TypeError/ValueError beginning with `what` (the field or argument name). Scalars follow
-/// the rules of the file comment, a VecX is to_vector's, a MatX or row-major matrix to_matrix's; any other T
+/// the rules of the file comment, a VecX is to_vector's, a MatX or row-major matrix to_matrix's, integer
+/// vectors and matrices to_int_rows', a list of matrices to_matrices'; any other T
 /// (an enum, a struct) is pybind11's cast, its failure named.
 template <class T>
 T field_value(pybind11::handle v, const std::string& what) {
@@ -190,6 +246,15 @@ T field_value(pybind11::handle v, const std::string& what) {
                        std::is_same_v<
                            T, Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>) {
     return to_matrix<T>(v, what.c_str());
+  } else if constexpr (std::is_same_v<T, VecXi>) {
+    return to_sight(v, what.c_str());
+  } else if constexpr (std::is_same_v<T, Eigen::MatrixXi>) {
+    int ndim = 0;
+    Eigen::MatrixXi m = to_int_rows(v, what.c_str(), &ndim);
+    if (ndim != 2) throw std::invalid_argument(what + ": expected a 2-D integer array");
+    return m;
+  } else if constexpr (std::is_same_v<T, std::vector<MatX>>) {
+    return to_matrices(v, what.c_str());
   } else {
     try {
       return py::cast<T>(v);

@@ -74,47 +74,10 @@ void def_set_belief(Cls& c) {
       "Replaces the belief (validated: finite mean, symmetric positive definite cov).");
 }
 
-/// Sight conditions (or any integer labels) from a 1-D or 2-D Python array, row-major (1-D: one row);
-/// *ndim receives the array's dimensions. Values must be integers (floats with integral values are
-/// accepted): an implicit cast would turn 0.5 into condition 0 without a word. The callee checks the
-/// range and the shape.
-inline Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> to_int_rows(
-    const pybind11::handle& o, const char* name, int* ndim) {
-  namespace py = pybind11;
-  reject_non_real(o, name);
-  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
-  if (!a || a.ndim() < 1 || a.ndim() > 2)
-    throw std::invalid_argument(std::string(name) + ": expected an integer array of 1 or 2 dimensions");
-  *ndim = static_cast<int>(a.ndim());
-  const Eigen::Index rows = a.ndim() == 2 ? a.shape(0) : 1;
-  const Eigen::Index cols = a.shape(a.ndim() - 1);
-  Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> out(rows, cols);
-  const double* d = a.data();
-  for (Eigen::Index r = 0; r < rows; ++r)
-    for (Eigen::Index c = 0; c < cols; ++c) {
-      const double v = d[r * cols + c];
-      if (!(std::floor(v) == v) || std::fabs(v) > 2147483647.0)
-        throw std::invalid_argument(std::string(name) + ": expected integers, got " + std::to_string(v) +
-                                    " at " +
-                                    (*ndim == 2 ? "(" + std::to_string(r) + ", " + std::to_string(c) + ")"
-                                                : "entry " + std::to_string(c)));
-      out(r, c) = static_cast<int>(v);
-    }
-  return out;
-}
-
 /// Binds a method of T taking one vector (z, o, ...) through VecArg, so its errors name `name`.
 template <class T, auto Method>
 auto vector_method(const char* name) {
   return [name](T& self, const VecArg& v) { return (self.*Method)(v.get(name)); };
-}
-
-/// A (B,) vector of sight conditions (to_int_rows; a 1-D array required).
-inline VecXi to_sight(const pybind11::handle& o, const char* name = "sight") {
-  int ndim = 0;
-  const auto m = to_int_rows(o, name, &ndim);
-  if (ndim != 1) throw std::invalid_argument(std::string(name) + ": expected a 1-D integer array (B,)");
-  return m.row(0).transpose();
 }
 
 }  // namespace nlosloc::bind

@@ -130,7 +130,7 @@ class SightProcess:
     @typing.overload
     def __init__(self, model: SightModel, num_anchors: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
-    def log_transition(self, from: typing.Any, to: typing.Any, k: typing.SupportsInt | typing.SupportsIndex, speeds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> float:
+    def log_transition(self, from: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], to: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], k: typing.SupportsInt | typing.SupportsIndex, speeds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> float:
         """
         log p(s_k = to | s_{k-1} = from), eq. (9).
         """
@@ -138,7 +138,7 @@ class SightProcess:
         ...
     def sample_initial(self, rng: nlosloc._core.core.Rng) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         ...
-    def sample_next(self, current: typing.Any, k: typing.SupportsInt | typing.SupportsIndex, speeds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], rng: nlosloc._core.core.Rng) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+    def sample_next(self, current: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], k: typing.SupportsInt | typing.SupportsIndex, speeds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], rng: nlosloc._core.core.Rng) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
         """
         Draws s_k (B,) from s_{k-1}; speeds (B,) transversal speeds (may be empty if unused).
         """
