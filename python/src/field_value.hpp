@@ -271,7 +271,8 @@ T field_value(pybind11::handle v, const std::string& what) {
 }
 
 /// An argument of type T read by field_value when the function reads it (get), so its errors name it. The
-/// caster takes any object: only for functions without overloads. The signature shows T's Python type.
+/// caster takes any object, except in the first, exact pass over an overloaded function's overloads (see
+/// the caster). The signature shows T's Python type.
 template <class T>
 struct StrictArg {
   pybind11::object obj;
@@ -281,7 +282,8 @@ struct StrictArg {
 /// A float vector argument, converted by to_vector (field_value.hpp) when the function reads it (get), so
 /// a wrong shape or type raises ValueError naming the argument. pybind11's Eigen caster refuses it with a
 /// TypeError about the whole signature ("incompatible function arguments"), e.g. for a (1, m) row sliced
-/// from a (T, m) array. Only for functions without overloads: the caster accepts any object.
+/// from a (T, m) array. In an overloaded function it yields, in pybind11's first pass, to an overload
+/// that takes the value exactly (see StrictArg's caster).
 using VecArg = StrictArg<VecX>;
 /// A float matrix argument, converted by to_matrix the same way (bool, complex or str arrays, None and
 /// arrays of other than 2 dimensions refused, named): covariances, anchors, gains.
@@ -319,8 +321,19 @@ namespace pybind11::detail {
 template <class T>
 struct type_caster<nlosloc::bind::StrictArg<T>> {
   PYBIND11_TYPE_CASTER(nlosloc::bind::StrictArg<T>, make_caster<T>::name);
-  bool load(handle src, bool /*convert*/) {
+  bool load(handle src, bool convert) {
     if (!src) return false;
+    // convert is false only in the first pass over an overloaded function's overloads: take only a value
+    // that converts, so an overload listed later can take the rest (QualityModel.log_likelihood's scalar
+    // form takes numpy.float32(0.5), run_k2_study's K2 form its scenario). In the second pass, and for a
+    // function without overloads, take any object: get() then raises the error that names the argument.
+    if (!convert) {
+      try {
+        (void)nlosloc::bind::field_value<T>(src, "");
+      } catch (const std::exception&) {
+        return false;
+      }
+    }
     value.obj = reinterpret_borrow<object>(src);
     return true;
   }

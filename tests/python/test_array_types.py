@@ -10,7 +10,7 @@ import re
 import numpy as np
 import pytest
 
-from nlosloc import bounds, core, filters, mitigation, models, rbpf, sim, situation
+from nlosloc import bounds, core, filters, mitigation, models, noise, rbpf, sim, situation
 from test_filters_api import MOTION, P0, X0, stack
 from test_rbpf import MOTION as MOTION6
 from test_rbpf import P0 as P06
@@ -205,3 +205,24 @@ def test_a_python_estimator_returning_complex_values_is_refused() -> None:
         sim.run_monte_carlo(
             "K1", "3LOS/0NLOS", 1, 1, [("c", lambda s, c: Complex())], threads=1, steps=105
         )
+
+
+def test_overloads_still_dispatch_by_the_value() -> None:
+    # A strict argument takes any object, so that its errors name it; in pybind11's first (exact)
+    # pass over an overloaded function's forms it takes only a value that converts, so that a later
+    # form gets the rest: QualityModel.log_likelihood's vector form took numpy.float32(0.5), meant
+    # for the scalar form, and raised "o: expected a 1-D float array, got 0 dimensions".
+    q = situation.QualityModel([noise.Beta(4.0, 1.5), noise.Beta(1.5, 4.0)])
+    ref = q.log_likelihood(0.5, 1)
+    for o in (np.float32(0.5), np.float64(0.5), 0.5, np.array(0.5)):
+        assert q.log_likelihood(o, 1) == pytest.approx(ref, rel=1e-7)
+    assert q.log_likelihood(np.array([0.5, 0.5]), [1, 0]) == pytest.approx(
+        ref + q.log_likelihood(0.5, 0)
+    )
+    with pytest.raises(ValueError, match=refused("o", "complex")):
+        q.log_likelihood(np.array([0.5, 0.5]) + 0j, [1, 0])
+    # run_k2_study's first form (runs, seed, ...) must not take the K2 of the second as `runs`
+    r = sim.run_k2_study(sim.K2(), 1, 5, 105, ["EKF"])
+    assert r.runs == 1
+    with pytest.raises(TypeError, match=r"^runs: expected an integer, got True \(bool\)$"):
+        sim.run_k2_study(sim.K2(), True, 5, 105, ["EKF"])
