@@ -95,8 +95,7 @@ class PythonBoxQp final : public BoxQp {
       x_.setZero();
       return res;
     }
-    bind::reject_non_real(r, ("solver: solve() of '" + name_ + "'").c_str());
-    const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(r);
+    const auto a = bind::real_array(r, ("solver: solve() of '" + name_ + "'").c_str());
     if (!a || a.ndim() != 1 || a.size() != n_)
       throw py::value_error("solver: solve() of '" + name_ + "' returned " + bind::describe(r, a) +
                             "; expected the " + std::to_string(n_) + " values of the minimiser, or None");

@@ -77,8 +77,7 @@ class CustomScenario final : public sim::Scenario {
         if (required) throw py::value_error(where + ": missing");
         return sim::RowMatX::Constant(T, cols, std::nan(""));
       }
-      nlosloc::bind::reject_non_real(dict[key], where.c_str());
-      const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(dict[key]);
+      const auto a = nlosloc::bind::real_array(dict[key], where.c_str());
       if (!a || a.ndim() != 2 || a.shape(0) != T || a.shape(1) != cols)
         throw py::value_error(where + ": expected an array of shape (" + std::to_string(T) + ", " +
                               std::to_string(cols) + ")");

@@ -113,43 +113,46 @@ T to_integer(py::handle v0, const std::string& what) {
 
 }  // namespace field_detail
 
-/// numpy dtype kinds that a cast to float64 would take without a word: bool (True as 1.0), complex (the
-/// imaginary part dropped; numpy only warns), str and bytes (parsed), datetimes, structured records.
-/// Refused, named; float, integer and object arrays (whose elements numpy converts one by one) pass.
-inline void reject_non_real(const pybind11::handle& o, const char* name) {
+/// A C-contiguous float64 array.
+using RealArray = pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast>;
+
+/// o as a RealArray: numpy's asarray, read once, then cast to float64 (no copy when it already is one); a
+/// null array when numpy cannot read o as numbers (the caller names it). Refused, named, when numpy reads
+/// it as an array of a kind the cast would take without a word: bool (True as 1.0), complex (the imaginary
+/// part dropped; numpy only warns), str and bytes (parsed), datetimes, structured records. Float, integer
+/// and object arrays (whose elements numpy converts one by one) pass.
+inline RealArray real_array(const pybind11::handle& o, const char* name) {
   namespace py = pybind11;
-  if (o.is_none() || PyUnicode_Check(o.ptr()) || PyBytes_Check(o.ptr())) return;  // the caller names them
-  py::array a;
-  if (py::isinstance<py::array>(o)) {
-    a = py::reinterpret_borrow<py::array>(o);
-  } else if (PySequence_Check(o.ptr())) {
-    a = py::array::ensure(o);  // np.asarray: the dtype numpy infers ([True, False]: bool)
-    if (!a) return;            // not array-like: the caller's cast names it
-  } else {
-    return;
+  py::object raw = py::reinterpret_borrow<py::object>(o);
+  if (!py::isinstance<py::array>(o)) {
+    const bool seq =
+        !o.is_none() && !PyUnicode_Check(o.ptr()) && !PyBytes_Check(o.ptr()) && PySequence_Check(o.ptr());
+    if (seq) raw = py::array::ensure(o);  // np.asarray: the dtype numpy infers ([True, False]: bool)
+    // None, a str, a scalar, not array-like: numpy's cast decides
+    if (!seq || !raw) return RealArray::ensure(o);
   }
-  const char kind = a.dtype().kind();
-  if (kind == 'f' || kind == 'i' || kind == 'u' || kind == 'O') return;
-  const char* what = kind == 'b'   ? "bool"
-                     : kind == 'c' ? "complex"
-                     : kind == 'U' ? "str"
-                     : kind == 'S' ? "bytes"
-                                   : "non-numeric";
-  throw std::invalid_argument(std::string(name) + ": expected real values, got a " + what + " array");
+  const char kind = py::reinterpret_borrow<py::array>(raw).dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'O') {
+    const char* what = kind == 'b'   ? "bool"
+                       : kind == 'c' ? "complex"
+                       : kind == 'U' ? "str"
+                       : kind == 'S' ? "bytes"
+                                     : "non-numeric";
+    throw std::invalid_argument(std::string(name) + ": expected real values, got a " + what + " array");
+  }
+  return RealArray::ensure(raw);
 }
 
 namespace field_detail {
 /// o as a C-contiguous float64 array of `ndim` dimensions, or std::invalid_argument naming it ("expected a
 /// 1-D float array, got None"); pybind11's Eigen caster raised "incompatible function arguments" or cast.
-inline pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast> float_array(
-    const pybind11::handle& o, const char* name, int ndim) {
+inline RealArray float_array(const pybind11::handle& o, const char* name, int ndim) {
   namespace py = pybind11;
   const std::string expected =
       std::string(name) + ": expected a " + std::to_string(ndim) + "-D float array, got ";
   if (o.is_none())  // numpy reads None as a 0-d NaN array
     throw std::invalid_argument(expected + "None");
-  reject_non_real(o, name);
-  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
+  const RealArray a = real_array(o, name);
   if (!a || a.ndim() != ndim)
     throw std::invalid_argument(expected + (a ? std::to_string(a.ndim()) + " dimensions"
                                               : std::string(py::str(py::type::of(o).attr("__name__")))));
@@ -181,8 +184,7 @@ M to_matrix(const pybind11::handle& o, const char* name) {
 inline Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> to_int_rows(
     const pybind11::handle& o, const char* name, int* ndim) {
   namespace py = pybind11;
-  reject_non_real(o, name);
-  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(o);
+  const RealArray a = real_array(o, name);
   if (!a || a.ndim() < 1 || a.ndim() > 2)
     throw std::invalid_argument(std::string(name) + ": expected an integer array of 1 or 2 dimensions");
   *ndim = static_cast<int>(a.ndim());

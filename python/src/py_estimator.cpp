@@ -99,8 +99,7 @@ class PythonEstimator final : public sim::Estimator {
             Eigen::Ref<VecX> position_out) override {
     py::gil_scoped_acquire gil;
     const py::object r = step_(k, vector_array(y), vector_array(o));
-    nlosloc::bind::reject_non_real(r, ("estimators: step() of '" + name_ + "'").c_str());
-    const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(r);
+    const auto a = nlosloc::bind::real_array(r, ("estimators: step() of '" + name_ + "'").c_str());
     if (!a || a.ndim() != 1 || a.size() != dim_)
       throw py::value_error("estimators: step() of '" + name_ + "' returned " + describe(r, a) +
                             "; expected the " + std::to_string(dim_) + " coordinates of the position");
