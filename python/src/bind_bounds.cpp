@@ -21,8 +21,9 @@ void define_module(py::module_& m) {
   m.def(
       "gcrb_rtoa",
       [](const bind::MatArg& anchors, const bind::VecArg& position, const bind::MatArg& Q,
-         double sigma_tau2) {
-        return bounds::gcrb_rtoa(anchors.get("anchors"), position.get("position"), Q.get("Q"), sigma_tau2);
+         const bind::StrictArg<double>& sigma_tau2) {
+        return bounds::gcrb_rtoa(anchors.get("anchors"), position.get("position"), Q.get("Q"),
+                                 sigma_tau2.get("sigma_tau2"));
       },
       py::arg("anchors"), py::arg("position"), py::arg("Q"), py::arg("sigma_tau2"),
       "GCRB of the position from RTOA with a clock prior of variance sigma_tau2 (inf: no prior). anchors "

@@ -76,7 +76,9 @@ void define_module(py::module_& m) {
       .def("normal", py::overload_cast<>(&Rng::normal), "Standard normal draw.")
       .def(
           "normal",
-          [](Rng& r, double mu, double sigma) {
+          [](Rng& r, const bind::StrictArg<double>& mu_in, const bind::StrictArg<double>& sigma_in) {
+            const double mu = mu_in.get("mu");
+            const double sigma = sigma_in.get("sigma");
             if (!std::isfinite(mu)) throw std::invalid_argument("mu: expected a finite mean");
             if (!(sigma >= 0.0 && std::isfinite(sigma)))
               throw std::invalid_argument("sigma: expected a finite standard deviation >= 0, got " +

@@ -16,6 +16,7 @@
 
 #include "batch.hpp"
 #include "bind.hpp"
+#include "field_value.hpp"
 #include "motion_arg.hpp"
 #include "native_makers.hpp"
 #include "nlosloc/mitigation/mitigation.hpp"
@@ -272,7 +273,9 @@ void define_module(pybind11::module_& m) {
       .def(py::pickle(&box_qp_state, &box_qp_from_state));
   m.def(
       "make_box_qp",
-      [](int n, const BoxQpSettings& s, const std::string& solver) { return solver_by_name(solver, n, s); },
+      [](const bind::StrictArg<int>& n, const BoxQpSettings& s, const std::string& solver) {
+        return solver_by_name(solver, n.get("n"), s);
+      },
       py::arg("n"), py::arg_v("settings", BoxQpSettings(), "BoxQpSettings()"), py::arg("solver") = "default",
       "A BoxQp of n variables: solver 'default' (make_box_qp: proxsuite when built with it, else "
       "'enumeration'), 'enumeration' (exact KKT search over the active sets, n <= 8, no allocation in "

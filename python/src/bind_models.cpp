@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "bind.hpp"
+#include "field_value.hpp"
 #include "int_arg.hpp"
 #include "motion_arg.hpp"
 #include "nlosloc/models/measurement.hpp"
@@ -34,8 +35,8 @@ void bind_cv(py::module_& m, const char* name) {
                   (std::string("Constant velocity in ") + std::to_string(D) +
                    "-D, state [p, v] (Huerta eqs. 6-7 random walk, Ke and Wu eq. 16 white acceleration).")
                       .c_str());
-  c.def(py::init<double, double, VelocityNoise>(), py::arg("dt"), py::arg("sigma2"),
-        py::arg("noise") = VelocityNoise::kRandomWalk,
+  c.def(bind::strict_init<M, double, double, VelocityNoise>("dt", "sigma2", "noise"), py::arg("dt"),
+        py::arg("sigma2"), py::arg("noise") = VelocityNoise::kRandomWalk,
         "dt > 0 (s); sigma2 >= 0: velocity random-walk rate ((m/s)^2/s) or acceleration variance "
         "((m/s^2)^2) depending on `noise`.")
       .def_property_readonly("sigma2", &M::sigma2)
@@ -48,7 +49,8 @@ void bind_cvc(py::module_& m, const char* name) {
   py::class_<M> c(m, name,
                   "Constant velocity plus clock bias (light-metres) and drift, state [p, tau, v, tau_dot] "
                   "(Huerta eqs. 5-7).");
-  c.def(py::init<double, double, double>(), py::arg("dt"), py::arg("sigma_v2"), py::arg("sigma_tau2"),
+  c.def(bind::strict_init<M, double, double, double>("dt", "sigma_v2", "sigma_tau2"), py::arg("dt"),
+        py::arg("sigma_v2"), py::arg("sigma_tau2"),
         "dt > 0 (s); sigma_v2 >= 0 ((m/s)^2/s); sigma_tau2 >= 0 ((lm/s)^2/s).")
       .def_property_readonly("sigma_v2", &M::sigma_v2)
       .def_property_readonly("sigma_tau2", &M::sigma_tau2);
@@ -86,8 +88,9 @@ void define_module(py::module_& m) {
   py::class_<TwoWayClock> tw(m, "TwoWayClock",
                              "Two-way-ranging clock and mobility model, state (omega, phi, vx, vy, x, y) "
                              "(Grisales and Fierens eqs. 14-15).");
-  tw.def(py::init<double, double, double, double>(), py::arg("h"), py::arg("sigma_omega"),
-         py::arg("sigma_phi"), py::arg("sigma_v"),
+  tw.def(bind::strict_init<TwoWayClock, double, double, double, double>("h", "sigma_omega", "sigma_phi",
+                                                                        "sigma_v"),
+         py::arg("h"), py::arg("sigma_omega"), py::arg("sigma_phi"), py::arg("sigma_v"),
          "h > 0: period (s); step standard deviations of skew, offset (s), velocity (m/s).")
       .def_property_readonly("sigma_omega", &TwoWayClock::sigma_omega)
       .def_property_readonly("sigma_phi", &TwoWayClock::sigma_phi)
@@ -126,34 +129,44 @@ void define_module(py::module_& m) {
       m, "MeasurementStack",
       "Stack of measurement rows y = g(x) + n(s), each tied to an anchor whose sight condition s selects the "
       "row's noise (Huerta Table I; Grisales eqs. 17-20). Build it once with the add_* methods.")
-      .def(py::init([](const StateLayout& layout, const bind::MatArg& anchors, int num_conditions) {
-             return MeasurementStack(layout, anchors.get("anchors"), num_conditions);
+      .def(py::init([](const StateLayout& layout, const bind::MatArg& anchors,
+                       const bind::StrictArg<int>& num_conditions) {
+             return MeasurementStack(layout, anchors.get("anchors"), num_conditions.get("num_conditions"));
            }),
            py::arg("layout"), py::arg("anchors"), py::arg("num_conditions") = 2,
            "layout: from the motion model (e.g. ConstantVelocity2.layout()); anchors: (B, D) positions in m; "
            "num_conditions: sight conditions per anchor (0 = LOS).")
-      .def("add_toa", &MeasurementStack::add_toa, py::arg("anchor"), py::arg("noise"),
-           py::return_value_policy::reference_internal, "TOA row; `noise`: one distribution per condition.")
-      .def("add_rtoa", &MeasurementStack::add_rtoa, py::arg("anchor"), py::arg("noise"),
-           py::return_value_policy::reference_internal, "RTOA (pseudorange) row, needs a clock-bias state.")
-      .def("add_aoa", &MeasurementStack::add_aoa, py::arg("anchor"), py::arg("noise"),
-           py::return_value_policy::reference_internal, "Geometric AOA row (rad), residuals wrapped.")
-      .def("add_aoa_phase", &MeasurementStack::add_aoa_phase, py::arg("anchor"), py::arg("sector_center"),
+      .def("add_toa", bind::strict_method(&MeasurementStack::add_toa, "anchor", "noise"), py::arg("anchor"),
            py::arg("noise"), py::return_value_policy::reference_internal,
-           "ULA phase row psi = pi sin(theta - sector_center) (scenario H1).")
-      .def("add_tdoa", &MeasurementStack::add_tdoa, py::arg("anchor_a"), py::arg("anchor_b"),
-           py::arg("noise_a"), py::arg("noise_b"), py::return_value_policy::reference_internal,
-           "TDOA row ||p - q_a|| - ||p - q_b|| with noise n_a - n_b.")
-      .def("add_twr", &MeasurementStack::add_twr, py::arg("anchor"), py::arg("slot"), py::arg("delta_slot"),
-           py::arg("reply_delay"), py::arg("sigma_m"), py::arg("gamma"),
+           "TOA row; `noise`: one distribution per condition.")
+      .def("add_rtoa", bind::strict_method(&MeasurementStack::add_rtoa, "anchor", "noise"), py::arg("anchor"),
+           py::arg("noise"), py::return_value_policy::reference_internal,
+           "RTOA (pseudorange) row, needs a clock-bias state.")
+      .def("add_aoa", bind::strict_method(&MeasurementStack::add_aoa, "anchor", "noise"), py::arg("anchor"),
+           py::arg("noise"), py::return_value_policy::reference_internal,
+           "Geometric AOA row (rad), residuals wrapped.")
+      .def("add_aoa_phase",
+           bind::strict_method(&MeasurementStack::add_aoa_phase, "anchor", "sector_center", "noise"),
+           py::arg("anchor"), py::arg("sector_center"), py::arg("noise"),
            py::return_value_policy::reference_internal,
+           "ULA phase row psi = pi sin(theta - sector_center) (scenario H1).")
+      .def("add_tdoa",
+           bind::strict_method(&MeasurementStack::add_tdoa, "anchor_a", "anchor_b", "noise_a", "noise_b"),
+           py::arg("anchor_a"), py::arg("anchor_b"), py::arg("noise_a"), py::arg("noise_b"),
+           py::return_value_policy::reference_internal,
+           "TDOA row ||p - q_a|| - ||p - q_b|| with noise n_a - n_b.")
+      .def("add_twr",
+           bind::strict_method(&MeasurementStack::add_twr, "anchor", "slot", "delta_slot", "reply_delay",
+                               "sigma_m", "gamma"),
+           py::arg("anchor"), py::arg("slot"), py::arg("delta_slot"), py::arg("reply_delay"),
+           py::arg("sigma_m"), py::arg("gamma"), py::return_value_policy::reference_internal,
            "Two-way-ranging pair (tau, T) of Grisales eqs. (17)-(20); gamma[z]: NLOS delay distribution of "
            "condition z, None for no delay.")
       .def(
           "add_linear",
-          [](MeasurementStack& s, const bind::VecArg& h, int anchor,
+          [](MeasurementStack& s, const bind::VecArg& h, const bind::StrictArg<int>& anchor,
              const std::vector<MeasurementStack::Dist>& noise) -> MeasurementStack& {
-            return s.add_linear(h.get("h"), anchor, noise);
+            return s.add_linear(h.get("h"), anchor.get("anchor"), noise);
           },
           py::arg("h"), py::arg("anchor"), py::arg("noise"), py::return_value_policy::reference_internal,
           "Linear row h^T x.")

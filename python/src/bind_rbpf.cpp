@@ -21,6 +21,7 @@
 #include "any_rbpf.hpp"
 #include "batch.hpp"
 #include "bind.hpp"
+#include "field_value.hpp"
 #include "int_arg.hpp"
 #include "motion_arg.hpp"
 #include "native_makers.hpp"
@@ -282,7 +283,8 @@ void define_module(py::module_& m) {
       .def(py::init([](const bind::StrictArg<Eigen::MatrixXi>& situations, const bind::MatArg& means,
                        const bind::StrictArg<std::vector<MatX>>& covs, const bind::VecArg& log_weights,
                        const bind::MatArg& situation_probabilities, const bind::VecArg& estimate,
-                       const bind::MatArg& covariance, double time, long step) {
+                       const bind::MatArg& covariance, const bind::StrictArg<double>& time,
+                       const bind::StrictArg<long>& step) {
              // braced initialisation reads the arguments in order, so the first bad one is named
              return RbpfSnapshot{situations.get("situations"),
                                  means.get("means"),
@@ -291,8 +293,8 @@ void define_module(py::module_& m) {
                                  situation_probabilities.get("situation_probabilities"),
                                  estimate.get("estimate"),
                                  covariance.get("covariance"),
-                                 time,
-                                 step};
+                                 time.get("time"),
+                                 step.get("step")};
            }),
            py::arg("situations"), py::arg("means"), py::arg("covs"), py::arg("log_weights"),
            py::arg("situation_probabilities"), py::arg("estimate"), py::arg("covariance"), py::arg("time"),
@@ -356,18 +358,20 @@ void define_module(py::module_& m) {
                          "Checked by ParticleFilter.restore.")
       .def(py::init([](const bind::MatArg& particles, const bind::StrictArg<Eigen::MatrixXi>& situations,
                        const bind::VecArg& log_weights, const bind::MatArg& situation_probabilities,
-                       const bind::VecArg& estimate, const bind::MatArg& covariance, double position_variance,
-                       const std::vector<std::uint64_t>& generators, double time, long step) {
+                       const bind::VecArg& estimate, const bind::MatArg& covariance,
+                       const bind::StrictArg<double>& position_variance,
+                       const std::vector<std::uint64_t>& generators, const bind::StrictArg<double>& time,
+                       const bind::StrictArg<long>& step) {
              return PfSnapshot{particles.get("particles"),
                                situations.get("situations"),
                                log_weights.get("log_weights"),
                                situation_probabilities.get("situation_probabilities"),
                                estimate.get("estimate"),
                                covariance.get("covariance"),
-                               position_variance,
+                               position_variance.get("position_variance"),
                                generators,
-                               time,
-                               step};
+                               time.get("time"),
+                               step.get("step")};
            }),
            py::arg("particles"), py::arg("situations"), py::arg("log_weights"),
            py::arg("situation_probabilities"), py::arg("estimate"), py::arg("covariance"),
@@ -621,12 +625,14 @@ void define_module(py::module_& m) {
             "cov", [](const A& a) { return a.visit([](const auto& f) { return MatX(f.cov()); }); });
   }
 
-  m.def("default_merge_threshold", &default_merge_threshold, py::arg("position_variance"),
-        py::arg("num_particles"), "d_min = sigma^2 / (10 M), Huerta eq. (31).");
+  m.def("default_merge_threshold",
+        bind::strict_fn(&default_merge_threshold, "position_variance", "num_particles"),
+        py::arg("position_variance"), py::arg("num_particles"), "d_min = sigma^2 / (10 M), Huerta eq. (31).");
   m.def(
       "merge_greedy",
       [](const std::vector<bind::UInt64Arg>& key_args, const bind::MatArg& means_in,
-         const bind::VecArg& logw_in, double d_min, bool with_pairs, int threads) -> py::tuple {
+         const bind::VecArg& logw_in, const bind::StrictArg<double>& d_min_in,
+         const bind::StrictArg<bool>& with_pairs_in, const bind::StrictArg<int>& threads_in) -> py::tuple {
         const MatX means = means_in.get("means");
         VecX logw = logw_in.get("logw");
         std::vector<std::uint64_t> keys(key_args.size());
@@ -637,6 +643,9 @@ void define_module(py::module_& m) {
             "keys, means, logw: expected one key, one mean column and one log weight per particle");
         nlosloc::detail::ensure_finite(means, "means");
         check_log_weights(logw);
+        const double d_min = d_min_in.get("d_min");
+        const bool with_pairs = with_pairs_in.get("with_pairs");
+        const int threads = threads_in.get("threads");
         nlosloc::detail::ensure_nonnegative(d_min, "d_min");
         NLOSLOC_ENSURE(threads >= 1, "threads: expected an integer >= 1, got " + std::to_string(threads));
         auto close = [&](int a, int b) { return (means.col(a) - means.col(b)).norm() < d_min; };
@@ -696,8 +705,9 @@ void define_module(py::module_& m) {
       "sums) as enumerate_offspring.");
   m.def(
       "select_top",
-      [](const bind::VecArg& logw_in, int M) {
+      [](const bind::VecArg& logw_in, const bind::StrictArg<int>& M_in) {
         const VecX logw = logw_in.get("logw");
+        const int M = M_in.get("M");
         NLOSLOC_ENSURE(M >= 1, "M: expected an integer >= 1, got " + std::to_string(M));
         check_log_weights(logw);
         std::vector<int> out;
@@ -709,8 +719,10 @@ void define_module(py::module_& m) {
       "ties by index (the prune step of Huerta Sec. V-A.3; -inf entries are never kept).");
   m.def(
       "systematic_resample",
-      [](const bind::VecArg& w_in, int M, double u0) {
+      [](const bind::VecArg& w_in, const bind::StrictArg<int>& M_in, const bind::StrictArg<double>& u0_in) {
         const VecX w = w_in.get("w");
+        const int M = M_in.get("M");
+        const double u0 = u0_in.get("u0");
         NLOSLOC_ENSURE(w.size() >= 1 && M >= 1, "w, M: expected at least one weight and M >= 1");
         NLOSLOC_ENSURE(w.allFinite() && (w.array() >= 0.0).all() && std::abs(w.sum() - 1.0) < 1e-9,
                        "w: expected finite weights >= 0 summing to 1");
@@ -721,12 +733,16 @@ void define_module(py::module_& m) {
       },
       py::arg("w"), py::arg("M"), py::arg("u0"), "Ancestor indices of systematic resampling (normalised w).");
   m.def(
-      "situation_count", [](int nz, int B) { return situation_count(nz, B); }, py::arg("num_conditions"),
-      py::arg("num_anchors"), "N_z^B (0 when above 2^62).");
+      "situation_count",
+      [](const bind::StrictArg<int>& nz, const bind::StrictArg<int>& B) {
+        return situation_count(nz.get("num_conditions"), B.get("num_anchors"));
+      },
+      py::arg("num_conditions"), py::arg("num_anchors"), "N_z^B (0 when above 2^62).");
   m.def(
       "encode_situation",
-      [](const py::object& sight, int nz) {
+      [](const py::object& sight, const bind::StrictArg<int>& nz_in) {
         const VecXi v = bind::to_sight(sight);
+        const int nz = nz_in.get("num_conditions");
         NLOSLOC_ENSURE(nz >= 1, "num_conditions: expected an integer >= 1, got " + std::to_string(nz));
         NLOSLOC_ENSURE(situation_count(nz, static_cast<int>(v.size())) != 0,
                        "sight: " + std::to_string(v.size()) + " anchors with " + std::to_string(nz) +
@@ -742,8 +758,11 @@ void define_module(py::module_& m) {
       "significant (the keys of merge_greedy and of the RBPF's particles).");
   m.def(
       "decode_situation",
-      [](const bind::UInt64Arg& key_arg, int nz, int B) {
+      [](const bind::UInt64Arg& key_arg, const bind::StrictArg<int>& nz_in,
+         const bind::StrictArg<int>& B_in) {
         const std::uint64_t key = key_arg.get("key");
+        const int nz = nz_in.get("num_conditions");
+        const int B = B_in.get("num_anchors");
         const std::uint64_t count = situation_count(nz, B);  // checks nz >= 1, B >= 0
         NLOSLOC_ENSURE(count != 0, "num_anchors: " + std::to_string(B) + " anchors with " +
                                        std::to_string(nz) +

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "bind.hpp"
+#include "field_value.hpp"
 #include "motion_arg.hpp"
 #include "nlosloc/core/cholesky.hpp"
 #include "nlosloc/sim/h1.hpp"
@@ -185,9 +186,11 @@ It runs wherever a Scenario does (``draw``, ``run_monte_carlo(scenario, ...)``,
 filters of :mod:`nlosloc.filters` (no estimator is registered for it). ``generate`` is called from
 the runner's worker threads, with the GIL; it must not depend on anything but its arguments if the
 result is to be the same for any number of threads. Scenario objects of this class do not pickle.)doc")
-      .def(py::init(&make_custom), py::arg("name"), py::arg("measurements"), py::arg("cases"),
-           py::arg("steps"), py::arg("dt"), py::arg("generate"), py::arg("discard") = 0,
-           py::arg("description") = "", py::arg("choices") = std::vector<std::string>{},
+      .def(py::init(nlosloc::bind::strict_fn(&make_custom, "name", "measurements", "cases", "steps", "dt",
+                                             "generate", "discard", "description", "choices")),
+           py::arg("name"), py::arg("measurements"), py::arg("cases"), py::arg("steps"), py::arg("dt"),
+           py::arg("generate"), py::arg("discard") = 0, py::arg("description") = "",
+           py::arg("choices") = std::vector<std::string>{},
            R"doc(Parameters
 ----------
 name : str

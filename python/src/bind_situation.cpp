@@ -10,6 +10,7 @@
 #include <string>
 
 #include "bind.hpp"
+#include "field_value.hpp"
 #include "motion_arg.hpp"
 #include "nlosloc/situation/forward.hpp"
 #include "nlosloc/situation/markov.hpp"
@@ -59,27 +60,36 @@ void define_module(py::module_& m) {
       },
       py::arg("p"), py::arg("v"), py::arg("anchors"),
       "Transversal speed (Huerta eq. 10) w.r.t. every anchor (rows of anchors (B, D)), shape (B,).");
-  m.def("speed_transition_single", &speed_transition_single, py::arg("w"), py::arg("dt"), py::arg("mean_los"),
-        py::arg("mean_nlos"), "2x2 [LOS, NLOS] transition matrix of Huerta eq. (15).");
-  m.def("speed_transition_multiple", &speed_transition_multiple, py::arg("w"), py::arg("dt"),
-        py::arg("mean_los"), py::arg("mean_nlos"), "2x2 transition matrix of Huerta eq. (17).");
-  m.def("speed_transition_memoryless", &speed_transition_memoryless, py::arg("mean_los"),
-        py::arg("mean_nlos"), "2x2 memoryless matrix of Huerta eq. (18), rows (p_L, p_N).");
+  m.def("speed_transition_single",
+        bind::strict_fn(&speed_transition_single, "w", "dt", "mean_los", "mean_nlos"), py::arg("w"),
+        py::arg("dt"), py::arg("mean_los"), py::arg("mean_nlos"),
+        "2x2 [LOS, NLOS] transition matrix of Huerta eq. (15).");
+  m.def("speed_transition_multiple",
+        bind::strict_fn(&speed_transition_multiple, "w", "dt", "mean_los", "mean_nlos"), py::arg("w"),
+        py::arg("dt"), py::arg("mean_los"), py::arg("mean_nlos"),
+        "2x2 transition matrix of Huerta eq. (17).");
+  m.def("speed_transition_memoryless", bind::strict_fn(&speed_transition_memoryless, "mean_los", "mean_nlos"),
+        py::arg("mean_los"), py::arg("mean_nlos"),
+        "2x2 memoryless matrix of Huerta eq. (18), rows (p_L, p_N).");
 
   py::class_<SightModel>(m, "SightModel",
                          "Sight chain of one anchor: fixed N_z x N_z or speed-dependent LOS/NLOS.")
       .def_static(
           "fixed",
-          [](const bind::MatArg& transition, long k_sight, const bind::VecArg& initial) {
-            return SightModel::fixed(transition.get("transition"), k_sight, initial.get("initial"));
+          [](const bind::MatArg& transition, const bind::StrictArg<long>& k_sight,
+             const bind::VecArg& initial) {
+            return SightModel::fixed(transition.get("transition"), k_sight.get("k_sight"),
+                                     initial.get("initial"));
           },
           py::arg("transition"), py::arg("k_sight") = 1, py::arg("initial") = VecX(),
           "Fixed row-stochastic matrix (N_z, N_z); changes only every k_sight steps (Grisales eq. 16). "
           "initial (N_z,) prior of s_0, empty: stationary distribution.")
       .def_static(
           "speed_dependent",
-          [](double mean_los, double mean_nlos, double dt, SpeedModel form, const bind::VecArg& initial) {
-            return SightModel::speed_dependent(mean_los, mean_nlos, dt, form, initial.get("initial"));
+          [](const bind::StrictArg<double>& mean_los, const bind::StrictArg<double>& mean_nlos,
+             const bind::StrictArg<double>& dt, SpeedModel form, const bind::VecArg& initial) {
+            return SightModel::speed_dependent(mean_los.get("mean_los"), mean_nlos.get("mean_nlos"),
+                                               dt.get("dt"), form, initial.get("initial"));
           },
           py::arg("mean_los"), py::arg("mean_nlos"), py::arg("dt"), py::arg("form") = SpeedModel::kMultiple,
           py::arg("initial") = VecX(),
@@ -120,7 +130,8 @@ void define_module(py::module_& m) {
 
   py::class_<SightProcess>(m, "SightProcess", "Independent sight chains of B anchors (Huerta eq. 9).")
       .def(py::init<std::vector<SightModel>>(), py::arg("models"))
-      .def(py::init<const SightModel&, int>(), py::arg("model"), py::arg("num_anchors"))
+      .def(bind::strict_init<SightProcess, SightModel, int>("model", "num_anchors"), py::arg("model"),
+           py::arg("num_anchors"))
       .def_property_readonly("num_anchors", &SightProcess::num_anchors)
       .def_property_readonly("num_conditions", &SightProcess::num_conditions)
       .def_property_readonly("is_speed_dependent", &SightProcess::speed_dependent)
@@ -185,20 +196,22 @@ void define_module(py::module_& m) {
           py::arg("s"), py::arg("rng"), "One statistic per anchor for situation s (B,).");
 
   py::class_<ForwardFilter::Snapshot>(m, "ForwardFilterSnapshot", "State saved by ForwardFilter.save().")
-      .def(py::init(
-               [](const bind::MatArg& gamma_in, const bind::MatArg& pred_in, long k, double log_evidence) {
-                 const MatX gamma = gamma_in.get("gamma");
-                 const MatX pred = pred_in.get("pred");
-                 NLOSLOC_ENSURE(gamma.rows() >= 1 && gamma.cols() >= 1, "gamma: expected a (B, N_z) array");
-                 // The checks of ForwardFilter::restore (forward.hpp), without a filter to take B and N_z
-                 // from.
-                 check_probabilities(gamma, gamma.rows(), gamma.cols(), "gamma");
-                 check_probabilities(pred, gamma.rows(), gamma.cols(), "pred");
-                 NLOSLOC_ENSURE(k >= 0, "k: expected a step index >= 0, got " + std::to_string(k));
-                 NLOSLOC_ENSURE(std::isfinite(log_evidence), "log_evidence: expected a finite value, got " +
-                                                                 nlosloc::detail::fmt_shortest(log_evidence));
-                 return ForwardFilter::Snapshot{gamma, pred, k, log_evidence};
-               }),
+      .def(py::init([](const bind::MatArg& gamma_in, const bind::MatArg& pred_in,
+                       const bind::StrictArg<long>& k_in, const bind::StrictArg<double>& log_evidence_in) {
+             const MatX gamma = gamma_in.get("gamma");
+             const MatX pred = pred_in.get("pred");
+             const long k = k_in.get("k");
+             const double log_evidence = log_evidence_in.get("log_evidence");
+             NLOSLOC_ENSURE(gamma.rows() >= 1 && gamma.cols() >= 1, "gamma: expected a (B, N_z) array");
+             // The checks of ForwardFilter::restore (forward.hpp), without a filter to take B and N_z
+             // from.
+             check_probabilities(gamma, gamma.rows(), gamma.cols(), "gamma");
+             check_probabilities(pred, gamma.rows(), gamma.cols(), "pred");
+             NLOSLOC_ENSURE(k >= 0, "k: expected a step index >= 0, got " + std::to_string(k));
+             NLOSLOC_ENSURE(std::isfinite(log_evidence), "log_evidence: expected a finite value, got " +
+                                                             nlosloc::detail::fmt_shortest(log_evidence));
+             return ForwardFilter::Snapshot{gamma, pred, k, log_evidence};
+           }),
            py::arg("gamma"), py::arg("pred"), py::arg("k"), py::arg("log_evidence"),
            "A state to restore(): gamma and pred (B, N_z) rows of probabilities (>= 0, summing to 1), step "
            "index k >= 0, last log evidence (restore() checks the shapes against the filter).")

@@ -2,9 +2,11 @@
 /// \file field_value.hpp
 /// Strict conversion of one Python value to a C++ scalar or registered type, with errors that name the
 /// receiver: the option and parameter fields (`QpBiasEkfOptions.gamma`), and through StrictArg the time
-/// arguments (`t0`), sizes (`n`) and the scalar arguments of some constructors (`Normal(mean, std)`); and of
-/// float vectors and matrices (to_vector, to_matrix: measurements `y`, `o`, `z`, means, covariances,
-/// anchors, batches), whose bool, complex or str arrays numpy would cast to float64 without an error.
+/// arguments (`t0`), sizes (`n`), and through strict_init, strict_fn and strict_method the number and bool
+/// parameters of constructors and model functions (`Normal(mean, std)`, `ConstantVelocity2(dt, sigma2)`,
+/// `MeasurementStack.add_toa(anchor, noise)`); and of float vectors and matrices (to_vector, to_matrix:
+/// measurements `y`, `o`, `z`, means, covariances, anchors, batches), whose bool, complex or str arrays
+/// numpy would cast to float64 without an error.
 /// pybind11's own casters, used by def_readwrite and plain double/int arguments, take None and 0.5 as
 /// False for a bool field, True as 1.0 for a float, and refuse a wrong type with "incompatible function
 /// arguments" (TypeError) that shows the signature but not the field. Here a bool is a bool (True, False,
@@ -307,6 +309,49 @@ template <class T, class... A, class... Names>
 auto strict_init(Names... names) {
   static_assert(sizeof...(A) == sizeof...(Names), "one name per argument");
   return field_detail::strict_init<T, A...>({names...}, std::index_sequence_for<A...>{});
+}
+
+namespace field_detail {
+/// The parameter type of a strict wrapper for a parameter A of the wrapped function: a StrictArg for a
+/// bool or number, A itself otherwise (distributions, generators, enums keep pybind11's casters).
+template <class A>
+using strict_param = std::conditional_t<std::is_arithmetic_v<std::decay_t<A>>, StrictArg<std::decay_t<A>>, A>;
+
+template <class A, class V>
+decltype(auto) strict_value(V&& v, const char* name) {
+  if constexpr (std::is_arithmetic_v<std::decay_t<A>>) {
+    return v.get(name);
+  } else {
+    return std::forward<V>(v);
+  }
+}
+
+template <class R, class... A, std::size_t... I>
+auto strict_fn(R (*f)(A...), std::array<const char*, sizeof...(A)> names, std::index_sequence<I...>) {
+  return [f, names](strict_param<A>... a) -> R { return f(strict_value<A>(a, names[I])...); };
+}
+
+template <class R, class C, class... A, std::size_t... I>
+auto strict_method(R (C::*f)(A...), std::array<const char*, sizeof...(A)> names, std::index_sequence<I...>) {
+  return
+      [f, names](C& self, strict_param<A>... a) -> R { return (self.*f)(strict_value<A>(a, names[I])...); };
+}
+}  // namespace field_detail
+
+/// The free function f with its bool and number parameters read by StrictArg under their names (in the
+/// order of f's parameters, one per parameter): strict_fn(&speed_transition_memoryless, "mean_los",
+/// "mean_nlos"). Other parameters keep pybind11's casters.
+template <class R, class... A, class... Names>
+auto strict_fn(R (*f)(A...), Names... names) {
+  static_assert(sizeof...(A) == sizeof...(Names), "one name per parameter");
+  return field_detail::strict_fn(f, {names...}, std::index_sequence_for<A...>{});
+}
+
+/// strict_fn for a non-const member function (the object is the first argument, as in py::class_::def).
+template <class R, class C, class... A, class... Names>
+auto strict_method(R (C::*f)(A...), Names... names) {
+  static_assert(sizeof...(A) == sizeof...(Names), "one name per parameter");
+  return field_detail::strict_method(f, {names...}, std::index_sequence_for<A...>{});
 }
 
 /// An optional StrictArg's value (nullopt for None).
