@@ -732,12 +732,8 @@ void define_module(py::module_& m) {
         return out;
       },
       py::arg("w"), py::arg("M"), py::arg("u0"), "Ancestor indices of systematic resampling (normalised w).");
-  m.def(
-      "situation_count",
-      [](const bind::StrictArg<int>& nz, const bind::StrictArg<int>& B) {
-        return situation_count(nz.get("num_conditions"), B.get("num_anchors"));
-      },
-      py::arg("num_conditions"), py::arg("num_anchors"), "N_z^B (0 when above 2^62).");
+  m.def("situation_count", bind::strict_fn(&situation_count, "num_conditions", "num_anchors"),
+        py::arg("num_conditions"), py::arg("num_anchors"), "N_z^B (0 when above 2^62).");
   m.def(
       "encode_situation",
       [](const py::object& sight, const bind::StrictArg<int>& nz_in) {
