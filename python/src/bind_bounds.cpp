@@ -18,17 +18,11 @@ void define_module(py::module_& m) {
       .def_readonly("J_data", &bounds::GcrbResult::J_data, "J_D = H Q^-1 H^T, eq. (43).")
       .def_readonly("position_gcrb", &bounds::GcrbResult::position_gcrb, "(D, D) [J^-1]_p, eqs. (47)-(48).")
       .def_readonly("position_crb", &bounds::GcrbResult::position_crb, "(D, D) [J_D^-1]_p, no prior.");
-  m.def(
-      "gcrb_rtoa",
-      [](const bind::MatArg& anchors, const bind::VecArg& position, const bind::MatArg& Q,
-         const bind::StrictArg<double>& sigma_tau2) {
-        return bounds::gcrb_rtoa(anchors.get("anchors"), position.get("position"), Q.get("Q"),
-                                 sigma_tau2.get("sigma_tau2"));
-      },
-      py::arg("anchors"), py::arg("position"), py::arg("Q"), py::arg("sigma_tau2"),
-      "GCRB of the position from RTOA with a clock prior of variance sigma_tau2 (inf: no prior). anchors "
-      "(B, D), position (D,), Q (B, B) measurement covariance: positive definite and symmetric "
-      "(max |Q - Q^T| <= 1e-10 ||Q||_F; ValueError naming Q otherwise).");
+  m.def("gcrb_rtoa", bind::strict_fn(&bounds::gcrb_rtoa, "anchors", "position", "Q", "sigma_tau2"),
+        py::arg("anchors"), py::arg("position"), py::arg("Q"), py::arg("sigma_tau2"),
+        "GCRB of the position from RTOA with a clock prior of variance sigma_tau2 (inf: no prior). anchors "
+        "(B, D), position (D,), Q (B, B) measurement covariance: positive definite and symmetric "
+        "(max |Q - Q^T| <= 1e-10 ||Q||_F; ValueError naming Q otherwise).");
 }
 }  // namespace nlosloc::bind_bounds_cpp
 

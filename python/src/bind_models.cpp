@@ -162,14 +162,9 @@ void define_module(py::module_& m) {
            py::arg("sigma_m"), py::arg("gamma"), py::return_value_policy::reference_internal,
            "Two-way-ranging pair (tau, T) of Grisales eqs. (17)-(20); gamma[z]: NLOS delay distribution of "
            "condition z, None for no delay.")
-      .def(
-          "add_linear",
-          [](MeasurementStack& s, const bind::VecArg& h, const bind::StrictArg<int>& anchor,
-             const std::vector<MeasurementStack::Dist>& noise) -> MeasurementStack& {
-            return s.add_linear(h.get("h"), anchor.get("anchor"), noise);
-          },
-          py::arg("h"), py::arg("anchor"), py::arg("noise"), py::return_value_policy::reference_internal,
-          "Linear row h^T x.")
+      .def("add_linear", bind::strict_method(&MeasurementStack::add_linear, "h", "anchor", "noise"),
+           py::arg("h"), py::arg("anchor"), py::arg("noise"), py::return_value_policy::reference_internal,
+           "Linear row h^T x.")
       .def_property_readonly("rows", &MeasurementStack::rows)
       .def_property_readonly("noise_dim", &MeasurementStack::noise_dim)
       .def_property_readonly("num_anchors", &MeasurementStack::num_anchors)

@@ -312,14 +312,22 @@ auto strict_init(Names... names) {
 }
 
 namespace field_detail {
-/// The parameter type of a strict wrapper for a parameter A of the wrapped function: a StrictArg for a
-/// bool or number, A itself otherwise (distributions, generators, enums keep pybind11's casters).
+/// True for the parameters a strict wrapper reads through StrictArg: bools, numbers, and float vectors
+/// and matrices (to_vector / to_matrix: a wrong shape or dtype is named).
 template <class A>
-using strict_param = std::conditional_t<std::is_arithmetic_v<std::decay_t<A>>, StrictArg<std::decay_t<A>>, A>;
+inline constexpr bool is_strict_v =
+    std::is_arithmetic_v<std::decay_t<A>> || std::is_same_v<std::decay_t<A>, VecX> ||
+    std::is_same_v<std::decay_t<A>, MatX>;
+
+/// The parameter type of a strict wrapper for a parameter A of the wrapped function: a StrictArg for a
+/// bool, number, VecX or MatX, A itself otherwise (distributions, generators, enums keep pybind11's
+/// casters).
+template <class A>
+using strict_param = std::conditional_t<is_strict_v<A>, StrictArg<std::decay_t<A>>, A>;
 
 template <class A, class V>
 decltype(auto) strict_value(V&& v, const char* name) {
-  if constexpr (std::is_arithmetic_v<std::decay_t<A>>) {
+  if constexpr (is_strict_v<A>) {
     return v.get(name);
   } else {
     return std::forward<V>(v);
@@ -338,9 +346,9 @@ auto strict_method(R (C::*f)(A...), std::array<const char*, sizeof...(A)> names,
 }
 }  // namespace field_detail
 
-/// The free function f with its bool and number parameters read by StrictArg under their names (in the
-/// order of f's parameters, one per parameter): strict_fn(&speed_transition_memoryless, "mean_los",
-/// "mean_nlos"). Other parameters keep pybind11's casters.
+/// The free function f with its bool, number, VecX and MatX parameters read by StrictArg under their names
+/// (in the order of f's parameters, one per parameter): strict_fn(&speed_transition_memoryless,
+/// "mean_los", "mean_nlos"). Other parameters keep pybind11's casters.
 template <class R, class... A, class... Names>
 auto strict_fn(R (*f)(A...), Names... names) {
   static_assert(sizeof...(A) == sizeof...(Names), "one name per parameter");

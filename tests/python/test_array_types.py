@@ -174,6 +174,10 @@ def test_models_bounds_and_mitigation() -> None:
             models.MeasurementStack(layout, ANCHORS, 2).add_linear(make([1.0, 0, 0, 0]), -1, [])
         with pytest.raises(ValueError, match=refused("Q", kind)):
             bounds.gcrb_rtoa(ANCHORS, np.array([3.0, 4.0]), make(np.eye(3)), 1.0)
+        with pytest.raises(ValueError, match=refused("anchors", kind)):
+            bounds.gcrb_rtoa(make(ANCHORS), np.array([3.0, 4.0]), np.eye(3), 1.0)
+        with pytest.raises(ValueError, match=refused("position", kind)):
+            bounds.gcrb_rtoa(ANCHORS, make([3.0, 4.0]), np.eye(3), 1.0)
         with pytest.raises(ValueError, match=refused("D", kind)):
             mitigation.BiasEstimator(ANCHORS).estimate_from_innovation(
                 np.full(3, 5.0), np.zeros(3), make(np.eye(3))
