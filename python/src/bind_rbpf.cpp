@@ -179,6 +179,46 @@ void particle_filter_methods(C& c) {
           "Restarts from N(mean, cov) at time t0 (validated; a rejected call changes nothing).");
 }
 
+/// Constructor, summary accessors, step and run of a joint filter wrapper A (AnyRbpf: Filter = Rbpf,
+/// AnyPf: ParticleFilter), Filter<Mo> built for the motion model passed, in this order (the stubs list
+/// them so).
+template <class A, template <class...> class Filter, class Options, class C>
+void joint_filter_core(C& c, const char* options_repr, const char* step_doc, const char* run_doc) {
+  c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
+                    const situation::SightProcess& sight, const situation::QualityModel& quality,
+                    const bind::VecArg& mean_in, const bind::MatArg& cov_in, const Options& options,
+                    const bind::StrictArg<double>& t0_in) {
+          const VecX mean = mean_in.get("mean");
+          const MatX cov = cov_in.get("cov");
+          const double t0 = t0_in.get("t0");
+          return A(motion, [&](const auto& mo) {
+            using Mo = std::decay_t<decltype(mo)>;
+            return std::make_unique<Filter<Mo>>(mo, meas, sight, quality, to_gaussian<Mo::kDim>(mean, cov),
+                                                options, t0);
+          });
+        }),
+        py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
+        py::arg("cov"), py::arg_v("options", Options(), options_repr), py::arg("t0") = 0.0);
+  summary_methods<A>(c);
+  c.def(
+       "step",
+       [](A& a, const bind::VecArg& y_in, const bind::VecArg& o_in) {
+         const VecX y = y_in.get("y"), o = o_in.get("o");
+         py::gil_scoped_release rel;
+         return a.visit([&](auto& f) { return f.step(y, o); });
+       },
+       py::arg("y"), py::arg("o"), step_doc)
+      .def(
+          "run",
+          [](A& a, const bind::RowMatArg& Y_in, const bind::RowMatArg& O_in) {
+            const RowMat Y = Y_in.get("Y");
+            const RowMat O = O_in.get("O");
+            return run_batch(
+                a, Y, O, [](auto& f, const VecX& y, const VecX& o) { return f.step(y, o).log_likelihood; });
+          },
+          py::arg("Y"), py::arg("O"), run_doc);
+}
+
 /// Log weights of the merge and prune helpers: finite or -inf (a particle ruled out), never NaN or +inf.
 void check_log_weights(const VecX& logw) {
   NLOSLOC_ENSURE(are_log_weights(logw),
@@ -403,44 +443,12 @@ void define_module(py::module_& m) {
     using A = AnyRbpf;
     py::class_<A> c(m, "Rbpf",
                     "Rao-Blackwellized particle filter with UKF bank and merge/select (Huerta Sec. V-A/B).");
-    c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
-                      const situation::SightProcess& sight, const situation::QualityModel& quality,
-                      const bind::VecArg& mean_in, const bind::MatArg& cov_in, const RbpfOptions& options,
-                      const bind::StrictArg<double>& t0_in) {
-            const VecX mean = mean_in.get("mean");
-            const MatX cov = cov_in.get("cov");
-            const double t0 = t0_in.get("t0");
-            return A(motion, [&](const auto& mo) {
-              using Mo = std::decay_t<decltype(mo)>;
-              return std::make_unique<Rbpf<Mo>>(mo, meas, sight, quality, to_gaussian<Mo::kDim>(mean, cov),
-                                                options, t0);
-            });
-          }),
-          py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
-          py::arg("cov"), py::arg_v("options", RbpfOptions(), "RbpfOptions()"), py::arg("t0") = 0.0);
-    summary_methods<A>(c);
-    c.def(
-         "step",
-         [](A& a, const bind::VecArg& y_in, const bind::VecArg& o_in) {
-           const VecX y = y_in.get("y"), o = o_in.get("o");
-           py::gil_scoped_release rel;
-           return a.visit([&](auto& f) { return f.step(y, o); });
-         },
-         py::arg("y"), py::arg("o"), "One iteration with measurements y (m,) and quality statistics o (B,).")
-        .def(
-            "run",
-            [](A& a, const bind::RowMatArg& Y_in, const bind::RowMatArg& O_in) {
-              const RowMat Y = Y_in.get("Y");
-              const RowMat O = O_in.get("O");
-              return run_batch(
-                  a, Y, O, [](auto& f, const VecX& y, const VecX& o) { return f.step(y, o).log_likelihood; });
-            },
-            py::arg("Y"), py::arg("O"),
-            "step() over the rows of Y (T, m) and O (T, B), GIL released. Returns a dict of mean (T, n), cov "
-            "(T, n, n), situation_probabilities (T, B, N_z), log_likelihood (T,).")
-        .def_property_readonly(
-            "num_particles",
-            [](const A& a) { return a.visit([](const auto& f) { return f.num_particles(); }); })
+    joint_filter_core<A, Rbpf, RbpfOptions>(
+        c, "RbpfOptions()", "One iteration with measurements y (m,) and quality statistics o (B,).",
+        "step() over the rows of Y (T, m) and O (T, B), GIL released. Returns a dict of mean (T, n), cov "
+        "(T, n, n), situation_probabilities (T, B, N_z), log_likelihood (T,).");
+    c.def_property_readonly(
+         "num_particles", [](const A& a) { return a.visit([](const auto& f) { return f.num_particles(); }); })
         .def_property_readonly("weights",
                                [](const A& a) { return a.visit([](const auto& f) { return f.weights(); }); })
         .def(
@@ -485,42 +493,10 @@ void define_module(py::module_& m) {
     using A = AnyPf;
     py::class_<A> c(m, "ParticleFilter",
                     "Joint bootstrap particle filter over (x, s) (Huerta Sec. VI-B, PF).");
-    c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
-                      const situation::SightProcess& sight, const situation::QualityModel& quality,
-                      const bind::VecArg& mean_in, const bind::MatArg& cov_in, const PfOptions& options,
-                      const bind::StrictArg<double>& t0_in) {
-            const VecX mean = mean_in.get("mean");
-            const MatX cov = cov_in.get("cov");
-            const double t0 = t0_in.get("t0");
-            return A(motion, [&](const auto& mo) {
-              using Mo = std::decay_t<decltype(mo)>;
-              return std::make_unique<ParticleFilter<Mo>>(mo, meas, sight, quality,
-                                                          to_gaussian<Mo::kDim>(mean, cov), options, t0);
-            });
-          }),
-          py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
-          py::arg("cov"), py::arg_v("options", PfOptions(), "PfOptions()"), py::arg("t0") = 0.0);
-    summary_methods<A>(c);
-    c.def(
-         "step",
-         [](A& a, const bind::VecArg& y_in, const bind::VecArg& o_in) {
-           const VecX y = y_in.get("y"), o = o_in.get("o");
-           py::gil_scoped_release rel;
-           return a.visit([&](auto& f) { return f.step(y, o); });
-         },
-         py::arg("y"), py::arg("o"))
-        .def(
-            "run",
-            [](A& a, const bind::RowMatArg& Y_in, const bind::RowMatArg& O_in) {
-              const RowMat Y = Y_in.get("Y");
-              const RowMat O = O_in.get("O");
-              return run_batch(
-                  a, Y, O, [](auto& f, const VecX& y, const VecX& o) { return f.step(y, o).log_likelihood; });
-            },
-            py::arg("Y"), py::arg("O"), "As Rbpf.run.")
-        .def_property_readonly(
-            "particles", [](const A& a) { return a.visit([](const auto& f) { return f.particles(); }); },
-            "(n, M) particle states (a copy).")
+    joint_filter_core<A, ParticleFilter, PfOptions>(c, "PfOptions()", nullptr, "As Rbpf.run.");
+    c.def_property_readonly(
+         "particles", [](const A& a) { return a.visit([](const auto& f) { return f.particles(); }); },
+         "(n, M) particle states (a copy).")
         .def_property_readonly(
             "situations", [](const A& a) { return a.visit([](const auto& f) { return f.situations(); }); })
         .def_property_readonly(
