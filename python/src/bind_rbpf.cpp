@@ -179,23 +179,32 @@ void particle_filter_methods(C& c) {
           "Restarts from N(mean, cov) at time t0 (validated; a rejected call changes nothing).");
 }
 
+/// py::init of a wrapper A over the motion models from (motion, measurements, sight, quality, mean, cov,
+/// extra, t0), the arguments of Rbpf, ParticleFilter and Iukf: make(mo, meas, sight, quality, N(mean,
+/// cov), extra, t0) builds the filter for the motion model mo.
+template <class A, class Extra, class Make>
+auto sight_filter_init(Make make) {
+  return py::init([make](const py::object& motion, const MeasurementStack& meas,
+                         const situation::SightProcess& sight, const situation::QualityModel& quality,
+                         const bind::VecArg& mean_in, const bind::MatArg& cov_in, const Extra& extra,
+                         const bind::StrictArg<double>& t0_in) {
+    const VecX mean = mean_in.get("mean");
+    const MatX cov = cov_in.get("cov");
+    const double t0 = t0_in.get("t0");
+    return A(motion, [&](const auto& mo) {
+      using Mo = std::decay_t<decltype(mo)>;
+      return make(mo, meas, sight, quality, to_gaussian<Mo::kDim>(mean, cov), extra, t0);
+    });
+  });
+}
+
 /// Constructor, summary accessors, step and run of a joint filter wrapper A (AnyRbpf: Filter = Rbpf,
 /// AnyPf: ParticleFilter), Filter<Mo> built for the motion model passed, in this order (the stubs list
 /// them so).
 template <class A, template <class...> class Filter, class Options, class C>
 void joint_filter_core(C& c, const char* options_repr, const char* step_doc, const char* run_doc) {
-  c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
-                    const situation::SightProcess& sight, const situation::QualityModel& quality,
-                    const bind::VecArg& mean_in, const bind::MatArg& cov_in, const Options& options,
-                    const bind::StrictArg<double>& t0_in) {
-          const VecX mean = mean_in.get("mean");
-          const MatX cov = cov_in.get("cov");
-          const double t0 = t0_in.get("t0");
-          return A(motion, [&](const auto& mo) {
-            using Mo = std::decay_t<decltype(mo)>;
-            return std::make_unique<Filter<Mo>>(mo, meas, sight, quality, to_gaussian<Mo::kDim>(mean, cov),
-                                                options, t0);
-          });
+  c.def(sight_filter_init<A, Options>([](const auto& mo, const auto&... args) {
+          return std::make_unique<Filter<std::decay_t<decltype(mo)>>>(mo, args...);
         }),
         py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
         py::arg("cov"), py::arg_v("options", Options(), options_repr), py::arg("t0") = 0.0);
@@ -513,18 +522,12 @@ void define_module(py::module_& m) {
         m, "Iukf",
         "Improved UKF (Huerta Table VI, N_z conditions as Grisales eqs. 36-37): per-anchor forward filter "
         "on the quality statistics, one noise set per condition weighted by its probabilities.");
-    c.def(py::init([](const py::object& motion, const MeasurementStack& meas,
-                      const situation::SightProcess& sight, const situation::QualityModel& quality,
-                      const bind::VecArg& mean_in, const bind::MatArg& cov_in, const SigmaScheme& scheme,
-                      const bind::StrictArg<double>& t0_in) {
-            const VecX mean = mean_in.get("mean");
-            const MatX cov = cov_in.get("cov");
-            const double t0 = t0_in.get("t0");
-            return A(motion, [&](const auto& mo) {
-              using Mo = std::decay_t<decltype(mo)>;
-              return std::make_unique<IukfBox<Mo>>(mo, meas, to_gaussian<Mo::kDim>(mean, cov),
-                                                   situation::ForwardFilter(sight, quality), scheme, t0);
-            });
+    c.def(sight_filter_init<A, SigmaScheme>([](const auto& mo, const MeasurementStack& meas,
+                                               const situation::SightProcess& sight,
+                                               const situation::QualityModel& quality, const auto& belief,
+                                               const SigmaScheme& scheme, double t0) {
+            return std::make_unique<IukfBox<std::decay_t<decltype(mo)>>>(
+                mo, meas, belief, situation::ForwardFilter(sight, quality), scheme, t0);
           }),
           py::arg("motion"), py::arg("measurements"), py::arg("sight"), py::arg("quality"), py::arg("mean"),
           py::arg("cov"), py::arg_v("scheme", SigmaScheme::scaled(), "SigmaScheme.scaled()"),
