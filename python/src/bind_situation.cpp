@@ -75,22 +75,13 @@ void define_module(py::module_& m) {
   py::class_<SightModel>(m, "SightModel",
                          "Sight chain of one anchor: fixed N_z x N_z or speed-dependent LOS/NLOS.")
       .def_static(
-          "fixed",
-          [](const bind::MatArg& transition, const bind::StrictArg<long>& k_sight,
-             const bind::VecArg& initial) {
-            return SightModel::fixed(transition.get("transition"), k_sight.get("k_sight"),
-                                     initial.get("initial"));
-          },
+          "fixed", bind::strict_fn(&SightModel::fixed, "transition", "k_sight", "initial"),
           py::arg("transition"), py::arg("k_sight") = 1, py::arg("initial") = VecX(),
           "Fixed row-stochastic matrix (N_z, N_z); changes only every k_sight steps (Grisales eq. 16). "
           "initial (N_z,) prior of s_0, empty: stationary distribution.")
       .def_static(
           "speed_dependent",
-          [](const bind::StrictArg<double>& mean_los, const bind::StrictArg<double>& mean_nlos,
-             const bind::StrictArg<double>& dt, SpeedModel form, const bind::VecArg& initial) {
-            return SightModel::speed_dependent(mean_los.get("mean_los"), mean_nlos.get("mean_nlos"),
-                                               dt.get("dt"), form, initial.get("initial"));
-          },
+          bind::strict_fn(&SightModel::speed_dependent, "mean_los", "mean_nlos", "dt", "form", "initial"),
           py::arg("mean_los"), py::arg("mean_nlos"), py::arg("dt"), py::arg("form") = SpeedModel::kMultiple,
           py::arg("initial") = VecX(),
           "LOS/NLOS chain from the transversal speed (Huerta eqs. 14-18); mean lengths in m, dt in s.")
