@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <string>
@@ -431,6 +433,161 @@ TEST_CASE("joint PF: a restored twin steps on bit for bit, resampled or not", "[
       CHECK(differing == 0);
     }
 }
+
+TEST_CASE("joint PF: the AVX2 pass steps bit for bit as the portable pass", "[pf]") {
+  // Filters built with NLOSLOC_NO_AVX2=1 run the portable pass; the others the AVX2 build where the CPU
+  // has it. Same seed, same data: particles, weights, summaries and step results must be identical.
+  const H2Setup h;
+  const auto& [motion, proc, q, st, g] = h;
+  const char* before = std::getenv("NLOSLOC_NO_AVX2");
+  const std::string saved = before != nullptr ? before : "";
+  struct Case {
+    PfResampling rs;
+    double ess;
+  };
+  for (const Case c : {Case{PfResampling::kSystematic, 0.0}, Case{PfResampling::kSystematic, 0.6},
+                       Case{PfResampling::kMergeSelect, 0.5}})
+    for (int threads : {1, 2}) {
+      CAPTURE(static_cast<int>(c.rs), c.ess, threads);
+      PfOptions po;
+      po.num_particles = 2001;  // 15 blocks of 128 and a tail of 81 (P4, Packet2d and scalar loops)
+      po.threads = threads;
+      po.resampling = c.rs;
+      po.ess_threshold = c.ess;
+      po.seed = 8;
+      po.merge_threshold = c.rs == PfResampling::kMergeSelect ? 3.0 : -1.0;  // wide: groups to merge
+      unsetenv("NLOSLOC_NO_AVX2");
+      ParticleFilter<ConstantVelocityClock2> fast(motion, st, proc, q, g, po);
+      setenv("NLOSLOC_NO_AVX2", "1", 1);
+      ParticleFilter<ConstantVelocityClock2> portable(motion, st, proc, q, g, po);
+      setenv("NLOSLOC_NO_AVX2", "0", 1);  // "0" is unset
+      CHECK(ParticleFilter<ConstantVelocityClock2>(motion, st, proc, q, g, po).uses_avx2() ==
+            rbpf::detail::cpu_has_avx2());
+      CHECK(fast.uses_avx2() == rbpf::detail::cpu_has_avx2());
+      CHECK_FALSE(portable.uses_avx2());
+      if (!fast.uses_avx2()) WARN("no AVX2 on this CPU (or build): both filters run the portable pass");
+      Rng rng(11);
+      VecX y(6), o(6);
+      int merged = 0, resampled = 0, differing = 0;
+      for (int k = 0; k < 12; ++k) {
+        for (int j = 0; j < 6; ++j) {
+          y(j) = 3000.0 + 3.0 * rng.normal() + (j == 2 ? 300.0 : 0.0);  // anchor 2 NLOS (Rayleigh rows)
+          o(j) = j == 2 ? 0.25 : 0.75;
+        }
+        if (k == 5) y(4) = std::numeric_limits<double>::quiet_NaN();  // a missing row
+        const PfStepInfo a = fast.step(y, o), b = portable.step(y, o);
+        merged += a.merged;
+        resampled += a.resampled ? 1 : 0;
+        differing += same_pf(fast, portable) && a.log_likelihood == b.log_likelihood && a.ess == b.ess &&
+                             a.merged == b.merged && a.resampled == b.resampled
+                         ? 0
+                         : 1;
+      }
+      CHECK(differing == 0);
+      if (c.rs == PfResampling::kMergeSelect) CHECK(merged > 0);  // the merge ran on groups
+      if (c.ess > 0.0) CHECK(resampled > 0);
+    }
+  if (before != nullptr)
+    setenv("NLOSLOC_NO_AVX2", saved.c_str(), 1);
+  else
+    unsetenv("NLOSLOC_NO_AVX2");
+}
+
+TEST_CASE("PF bucket keys: four at a time equal the one-particle key, bit for bit", "[pf]") {
+  // Cells of either sign, on and off integers, |x / w| at and beyond 2^51 (the vector floor's limit), NaN
+  // and infinities (clamped), several widths; 203 particles: blocks of four and a tail of three.
+  const int n = 203, B = 6;
+  Rng rng(5);
+  std::vector<std::uint8_t> s(static_cast<std::size_t>(B * n));
+  for (auto& v : s) v = static_cast<std::uint8_t>(rng.below(2));
+  const double specials[] = {0.0,
+                             -0.0,
+                             2.5,
+                             -2.5,
+                             3.0,
+                             -3.0,
+                             1e300,
+                             -1e300,
+                             2251799813685247.0,
+                             2251799813685248.0,
+                             -2251799813685248.0,
+                             4.7e18,
+                             -4.7e18,
+                             std::numeric_limits<double>::quiet_NaN(),
+                             std::numeric_limits<double>::infinity(),
+                             -std::numeric_limits<double>::infinity(),
+                             1e-320};
+  for (const double inv : {1.0, 1.0 / 3.7, 1e-3, 1e9, 0.0}) {
+    CAPTURE(inv);
+    for (const int N : {4, 6}) {
+      std::vector<double> x(static_cast<std::size_t>(N * n));
+      for (std::size_t i = 0; i < x.size(); ++i)
+        x[i] =
+            i % 13 == 5 ? specials[(i / 13) % (sizeof specials / sizeof specials[0])] : 50.0 * rng.normal();
+      std::vector<std::uint32_t> got(static_cast<std::size_t>(n));
+      int differing = 0;
+      if (N == 4) {
+        rbpf::detail::pf_bucket_keys<4>(s.data(), n, B, x.data(), n, inv, n, got.data());
+        for (int j = 0; j < n; ++j)
+          differing += got[static_cast<std::size_t>(j)] ==
+                               rbpf::detail::pf_bucket_key<4>(s.data(), n, B, x.data(), n, inv, j)
+                           ? 0
+                           : 1;
+      } else {
+        rbpf::detail::pf_bucket_keys<6>(s.data(), n, B, x.data(), n, inv, n, got.data());
+        for (int j = 0; j < n; ++j)
+          differing += got[static_cast<std::size_t>(j)] ==
+                               rbpf::detail::pf_bucket_key<6>(s.data(), n, B, x.data(), n, inv, j)
+                           ? 0
+                           : 1;
+      }
+      CHECK(differing == 0);
+    }
+  }
+  // the one-particle key by hand: B = 1, N = 1, s = 1, x = -2.5 with w = 1 (cell -3)
+  const std::uint8_t s1 = 1;
+  const double x1 = -2.5;
+  std::uint64_t h = (std::uint64_t{1} + 1) * 0xBF58476D1CE4E5B9ULL;
+  h ^= static_cast<std::uint64_t>(std::int64_t{-3}) * 0x9E3779B97F4A7C15ULL;
+  h ^= h >> 31;
+  h *= 0x9E3779B97F4A7C15ULL;
+  CHECK(rbpf::detail::pf_bucket_key<1>(&s1, 1, 1, &x1, 1, 1.0, 0) == static_cast<std::uint32_t>(h >> 32));
+}
+
+#ifdef NLOSLOC_PF_AVX2_DISPATCH
+TEST_CASE("PF exp on four lanes equals Eigen's SSE2 pexp bit for bit where the result is normal", "[pf]") {
+  // The AVX2 pass's weights exp(lw - max) take arguments in (-708, 0]: uniform there, log-uniform towards 0,
+  // and multiples of ln 2 / 2 (the range reduction's boundaries), each with its neighbours.
+  namespace pk = rbpf::detail::pk;
+  Rng rng(9);
+  std::vector<double> v = {0.0, -0.0, -1e-300, -5e-324, -707.9999999, -707.5, -0.5, -1.0};
+  for (int i = 0; i < 100000; ++i) v.push_back(-708.0 * rng.uniform());
+  for (int i = 0; i < 20000; ++i) v.push_back(-std::pow(10.0, -300.0 * rng.uniform() + 2.0));
+  for (int k = 1; k < 2040; ++k) {
+    const double a = -k * 0.34657359027997264;
+    if (a > -708.0) {
+      v.push_back(a);
+      v.push_back(std::nextafter(a, 0.0));
+      v.push_back(std::nextafter(a, -1e9));
+    }
+  }
+  while (v.size() % 4 != 0) v.push_back(-1.0);
+  int differing = 0;
+  for (std::size_t i = 0; i < v.size(); i += 4) {
+    rbpf::detail::P4 a;
+    std::memcpy(&a.v, &v[i], sizeof a.v);
+    const rbpf::detail::P4 got = pk::exp(a);
+    double want[4];
+    Eigen::internal::pstoreu(want,
+                             Eigen::internal::pexp(Eigen::internal::ploadu<rbpf::detail::PfPacket>(&v[i])));
+    Eigen::internal::pstoreu(
+        want + 2, Eigen::internal::pexp(Eigen::internal::ploadu<rbpf::detail::PfPacket>(&v[i + 2])));
+    differing += std::memcmp(&got.v, want, sizeof want) == 0 ? 0 : 1;
+  }
+  CHECK(differing == 0);
+  CHECK(v.size() > 125000);
+}
+#endif
 
 TEST_CASE("joint PF restore: a bad snapshot is refused, naming the field, and changes nothing", "[pf]") {
   const H2Setup h;
