@@ -511,9 +511,15 @@ void define_module(py::module_& m) {
         .def_property_readonly(
             "log_weights",
             [](const A& a) { return a.visit([](const auto& f) { return VecX(f.log_weights()); }); })
-        .def_property_readonly("num_particles", [](const A& a) {
-          return a.visit([](const auto& f) { return f.num_particles(); });
-        });
+        .def_property_readonly(
+            "num_particles",
+            [](const A& a) { return a.visit([](const auto& f) { return f.num_particles(); }); })
+        .def_property_readonly(
+            "uses_avx2", [](const A& a) { return a.visit([](const auto& f) { return f.uses_avx2(); }); },
+            "Whether the pass runs its AVX2 build: a portable x86-64 build on a CPU with AVX2, with "
+            "NLOSLOC_NO_AVX2 unset (or '0') in the environment when the filter was built. Either way a "
+            "step's "
+            "result is the same bit for bit.");
     particle_filter_methods<A, PfSnapshot>(c);
   }
   {

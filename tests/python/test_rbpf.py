@@ -314,3 +314,43 @@ def test_zero_transition_probabilities_drop_the_impossible_children(variant):
         means.append(rbpf.Rbpf(MOTION, stack(), sight, QUALITY, X0, P0, opt).run(Y, Q_obs)["mean"])
     assert np.isfinite(means[0]).all()
     np.testing.assert_allclose(means[0], means[1], rtol=0, atol=1e-9)
+
+
+def _cpu_has_avx2():
+    try:
+        with open("/proc/cpuinfo") as f:
+            return any(line.startswith("flags") and " avx2" in line for line in f)
+    except OSError:
+        return False
+
+
+def test_pf_avx2_pass_steps_bit_for_bit_as_the_portable_pass(monkeypatch):
+    """A ParticleFilter built with NLOSLOC_NO_AVX2=1 runs the portable pass, one built without
+    it the AVX2 build where this x86-64 CPU has AVX2 (and the module is the portable build): the
+    same seed and data give the same particles, weights and summaries, bit for bit."""
+    Y, Q_obs, _, _ = track(steps=20)
+    opt = rbpf.PfOptions(
+        num_particles=2001,
+        threads=2,
+        resampling=rbpf.PfResampling.MergeSelect,
+        merge_threshold=3.0,
+        seed=4,
+    )
+    monkeypatch.delenv("NLOSLOC_NO_AVX2", raising=False)
+    fast = rbpf.ParticleFilter(MOTION, stack(), SIGHT, QUALITY, X0, P0, opt)
+    monkeypatch.setenv("NLOSLOC_NO_AVX2", "1")
+    portable = rbpf.ParticleFilter(MOTION, stack(), SIGHT, QUALITY, X0, P0, opt)
+    monkeypatch.setenv("NLOSLOC_NO_AVX2", "0")  # "0" counts as unset
+    again = rbpf.ParticleFilter(MOTION, stack(), SIGHT, QUALITY, X0, P0, opt)
+    expected = (
+        platform.machine() in ("x86_64", "AMD64") and rbpf.pf_simd_lanes() == 2 and _cpu_has_avx2()
+    )
+    assert fast.uses_avx2 is expected and again.uses_avx2 is expected
+    assert portable.uses_avx2 is False
+    a, b = fast.run(Y, Q_obs), portable.run(Y, Q_obs)
+    assert a.keys() == b.keys()
+    for k in a:
+        np.testing.assert_array_equal(a[k], b[k], err_msg=k)
+    np.testing.assert_array_equal(fast.particles, portable.particles)
+    np.testing.assert_array_equal(fast.situations, portable.situations)
+    np.testing.assert_array_equal(fast.log_weights, portable.log_weights)

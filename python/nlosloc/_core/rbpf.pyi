@@ -558,6 +558,11 @@ class ParticleFilter:
         """
         Time of the estimate (s).
         """
+    @property
+    def uses_avx2(self) -> bool:
+        """
+        Whether the pass runs its AVX2 build: a portable x86-64 build on a CPU with AVX2, with NLOSLOC_NO_AVX2 unset (or '0') in the environment when the filter was built. Either way a step's result is the same bit for bit.
+        """
 class Iukf:
     """
     Improved UKF (Huerta Table VI, N_z conditions as Grisales eqs. 36-37): per-anchor forward filter on the quality statistics, one noise set per condition weighted by its probabilities.
