@@ -313,13 +313,6 @@ NLOSLOC_PF_INLINE P set1(double v) {
     return ei::pset1<P>(v);
 }
 template <class P>
-NLOSLOC_PF_INLINE P zero(const P& a) {
-  if constexpr (kIsP4<P>)
-    return P{typename P::V{}};
-  else
-    return ei::pzero(a);
-}
-template <class P>
 NLOSLOC_PF_INLINE P add(const P& a, const P& b) {
   if constexpr (kIsP4<P>)
     return P{a.v + b.v};
@@ -869,6 +862,7 @@ class ParticleFilter {
  private:
   using Packet = detail::PfPacket;
   static constexpr int kLanes = detail::kPfLanes;
+  static constexpr int kRowLanes = kLanes > 4 ? kLanes : 4;  // a FastRow constant's copies
   static constexpr int kNT = N * (N + 1) / 2;
 
   struct Entry {
@@ -884,7 +878,9 @@ class ParticleFilter {
   struct FastRow {
     enum { kY, kMu0, kMu1, kInv0, kInv1, kC0, kC1, kRay0, kRay1, kQ0, kQ1, kQ2, kCount };
     int anchor, rtoa;
-    alignas(16) double k[kCount][detail::kPfLanes];  // kRay*: all-ones bits when condition z is Rayleigh
+    // kRay*: all-ones bits when condition z is Rayleigh. Broadcast to the widest packet that reads them (P4
+    // on the AVX2 pass).
+    alignas(32) double k[kCount][kRowLanes];
     void set(int c, double v) {
       for (double& e : k[c]) e = v;
     }
@@ -1081,12 +1077,24 @@ class ParticleFilter {
   }
 
   template <class P>
-  static P ld(const double* p) {
-    return Eigen::internal::ploadu<P>(p);
+  NLOSLOC_PF_INLINE static P ld(const double* p) {
+    return detail::pk::load<P>(p);
   }
   template <class P>
-  static P cst(double v) {
-    return Eigen::internal::pset1<P>(v);
+  NLOSLOC_PF_INLINE static P cst(double v) {
+    return detail::pk::set1<P>(v);
+  }
+  /// Calls f(tag, j) for j = 0, w, 2w, ... while a packet of w lanes fits in n: packets W first (W = P4 on
+  /// the AVX2 pass), then Packet; tag is a null pointer to the packet type. Returns where the scalar tail
+  /// starts.
+  template <class W, class F>
+  NLOSLOC_PF_INLINE static int sweep_packets(int n, F&& f) {
+    constexpr int kWide = static_cast<int>(sizeof(W) / sizeof(double));
+    int j = 0;
+    if constexpr (kWide != kLanes)
+      for (; j + kWide <= n; j += kWide) f(static_cast<W*>(nullptr), j);
+    for (; j + kLanes <= n; j += kLanes) f(static_cast<Packet*>(nullptr), j);
+    return j;
   }
 
   template <class P>
@@ -1220,7 +1228,7 @@ class ParticleFilter {
   template <class P>
   NLOSLOC_PF_INLINE static P wexp(const P& d) {
     namespace pk = detail::pk;
-    return pk::select(pk::lt(pk::set1<P>(-708.0), d), pk::exp(d), pk::zero(d));
+    return pk::select(pk::lt(pk::set1<P>(-708.0), d), pk::exp(d), pk::set1<P>(0.0));
   }
 
   /// Accumulator rows: `lanes` interleaved rows of stride_ doubles (entry q of lane l at q * lanes + l).
@@ -1269,7 +1277,6 @@ class ParticleFilter {
   NLOSLOC_PF_INLINE void weight_loop(int i0, int n, ThreadWork& w) {
     namespace ei = Eigen::internal;
     namespace pk = detail::pk;
-    constexpr int kWide = static_cast<int>(sizeof(W) / sizeof(double));
     const auto& L = meas_.layout();
     double* lwb = w.lw.data();
     double* pr = w.pr.data();
@@ -1286,12 +1293,7 @@ class ParticleFilter {
       const int ray = (f.k[FastRow::kRay0][0] != 0.0 ? 1 : 0) | (f.k[FastRow::kRay1][0] != 0.0 ? 2 : 0);
       auto body = [&](auto tag, int j) NLOSLOC_PF_LAMBDA_INLINE {
         using Q = decltype(detail::packet_of(tag));
-        auto k = [&f](int c) NLOSLOC_PF_LAMBDA_INLINE {  // the row's constants, stored broadcast to a Packet
-          if constexpr (detail::kIsP4<Q>)
-            return pk::set1<Q>(f.k[c][0]);
-          else
-            return ld<Q>(f.k[c]);
-        };
+        auto k = [&f](int c) NLOSLOC_PF_LAMBDA_INLINE { return pk::load<Q>(f.k[c]); };  // stored broadcast
         const Q zero = pk::set1<Q>(0.0), one = pk::set1<Q>(1.0);
         Q d2 = zero;
         for (int e = 0; e < D; ++e) {
@@ -1314,11 +1316,7 @@ class ParticleFilter {
           pk::store(pr + j, pk::mul(pk::load<Q>(pr + j), fac));
         }
       };
-      int j = 0;
-      if constexpr (kWide != kLanes)
-        for (; j + kWide <= n; j += kWide) body(static_cast<W*>(nullptr), j);
-      for (; j + kLanes <= n; j += kLanes) body(static_cast<Packet*>(nullptr), j);
-      for (; j < n; ++j) body(static_cast<double*>(nullptr), j);
+      for (int j = sweep_packets<W>(n, body); j < n; ++j) body(static_cast<double*>(nullptr), j);
     }
     for (int q = 0; q < nlonely_; ++q) {  // quality of anchors without an observed row
       const int b = lonely_[static_cast<std::size_t>(q)];
@@ -1340,11 +1338,7 @@ class ParticleFilter {
         pk::store(lwo + j, v);
         pk::max_into(mp, v);
       };
-      int j = 0;
-      if constexpr (kWide != kLanes)
-        for (; j + kWide <= n; j += kWide) logw(static_cast<W*>(nullptr), j);
-      for (; j + kLanes <= n; j += kLanes) logw(static_cast<Packet*>(nullptr), j);
-      for (; j < n; ++j) {
+      for (int j = sweep_packets<W>(n, logw); j < n; ++j) {
         lwo[j] = (lwi[j] - prior_shift_) + lwb[j] + std::log(pr[j]);
         ms = std::max(ms, lwo[j]);
       }
@@ -1395,10 +1389,8 @@ class ParticleFilter {
       for (int b = 0; b < B_; ++b)
         pk::accumulate(SP[b], pk::mul(wj, pk::load<Q>(&w.sd[static_cast<std::size_t>(b) * kBlock + j])));
     };
-    int j = 0;
-    if constexpr (kWide != kLanes)
-      for (; j + kWide <= n; j += kWide) mom(static_cast<W*>(nullptr), j, &s0, &s00, s1, s2, sp);
-    for (; j + kLanes <= n; j += kLanes) mom(static_cast<Packet*>(nullptr), j, &s0, &s00, s1, s2, sp);
+    int j = sweep_packets<W>(
+        n, [&](auto tag, int jj) NLOSLOC_PF_LAMBDA_INLINE { mom(tag, jj, &s0, &s00, s1, s2, sp); });
     double t0 = ei::predux(s0), t00 = ei::predux(s00), t1[N], t2[D], tp2[64];
     for (int d = 0; d < N; ++d) t1[d] = ei::predux(s1[d]);
     for (int e = 0; e < D; ++e) t2[e] = ei::predux(s2[e]);
