@@ -166,7 +166,14 @@ void define_module(py::module_& m) {
           py::arg("n"), "n standard normal variates (ziggurat, Marsaglia and Tsang 2000); shape (n,).")
       .def("uniform", &BatchRng::uniform, "One uniform in (0, 1) with 53 random bits.")
       .def(
-          "__call__", [](BatchRng& r) { return r.next(); }, "Next raw 64-bit word.");
+          "__call__", [](BatchRng& r) { return r.next(); }, "Next raw 64-bit word.")
+      .def(
+          "use_avx2", [](BatchRng& r, const bind::StrictArg<bool>& on) { r.use_avx2(on.get("on")); },
+          py::arg("on"),
+          "Refill on 256-bit AVX2 registers from now on (on, and the CPU has AVX2; x86-64 GCC/Clang "
+          "builds) or on SSE2 / scalar code (the default). The words are the same either way; not part "
+          "of save_state().")
+      .def_property_readonly("uses_avx2", &BatchRng::uses_avx2, "Whether refills run on AVX2 registers.");
   state_methods<BatchRng>(batch);
   batch.attr("STATE_WORDS") = BatchRng::kStateWords;
   batch.attr("LANES") = BatchRng::kLanes;

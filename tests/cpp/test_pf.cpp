@@ -66,6 +66,79 @@ TEST_CASE("BatchRng lanes are the parent Rng jumped 1 to 4 times", "[pf][random]
   CHECK(parent() == Rng(42, 7)());
 }
 
+TEST_CASE("BatchRng on AVX2 refills gives the same words, uniforms and normals", "[pf][random]") {
+  BatchRng narrow(Rng(11, 3)), wide(Rng(11, 3));
+  wide.use_avx2(true);
+  CHECK(wide.uses_avx2() == nlosloc::detail::cpu_has_avx2());
+  CHECK_FALSE(narrow.uses_avx2());
+  std::vector<std::uint64_t> wa(4 * 37), wb(4 * 37);
+  std::vector<double> a(1000), b(1000);
+  for (int r = 0; r < 300; ++r) {
+    const int n = 1 + (r * 53) % 700;
+    narrow.fill_normal(a.data(), n);
+    wide.fill_normal(b.data(), n);
+    REQUIRE(std::equal(a.begin(), a.begin() + n, b.begin()));
+    const int nu = 4 * (r % 41);
+    narrow.fill_uniform(a.data(), nu);
+    wide.fill_uniform(b.data(), nu);
+    REQUIRE(std::equal(a.begin(), a.begin() + nu, b.begin()));
+    narrow.fill_bits(wa.data(), 1 + r % 37);
+    wide.fill_bits(wb.data(), 1 + r % 37);
+    REQUIRE(std::equal(wa.begin(), wa.begin() + 4 * (1 + r % 37), wb.begin()));
+    REQUIRE(narrow.uniform() == wide.uniform());
+    REQUIRE(narrow.next() == wide.next());
+  }
+  wide.use_avx2(false);
+  CHECK_FALSE(wide.uses_avx2());
+}
+
+TEST_CASE("BatchRng::fill_normal is the ziggurat of its words, rejections and tail included",
+          "[pf][random]") {
+  // Reference: Marsaglia and Tsang (2000) on the generator's own words, one variate at a time (next() and
+  // uniform() of a copy). fill_normal tests the rectangles on its buffer first: the same words must give
+  // the same variates, across refills and wherever a word is rejected.
+  const auto& z = nlosloc::detail::ZigguratNormal::get();
+  auto reference = [&z](BatchRng& g, int& rejected, int& tail) {
+    for (;;) {
+      const std::uint64_t w = g.next();
+      const int i = static_cast<int>(w & 0xff);
+      const double u = 2.0 * (static_cast<double>(w >> 12) * 0x1.0p-52) - 1.0;
+      const double x = u * z.x[i];
+      if (std::abs(x) < z.x[i + 1]) return x;
+      ++rejected;
+      if (i == 0) {
+        ++tail;
+        const double R = nlosloc::detail::ZigguratNormal::kR;
+        double xt, yt;
+        do {
+          xt = -std::log(g.uniform()) / R;
+          yt = -std::log(g.uniform());
+        } while (2.0 * yt < xt * xt);
+        return u < 0.0 ? -(R + xt) : R + xt;
+      }
+      if (z.fx[i + 1] + (z.fx[i] - z.fx[i + 1]) * g.uniform() < std::exp(-0.5 * x * x)) return x;
+    }
+  };
+  for (const bool avx2 : {false, true}) {
+    BatchRng g(Rng(2024, 1)), ref(Rng(2024, 1));
+    g.use_avx2(avx2);
+    (void)g.next();  // start mid-buffer
+    (void)ref.next();
+    int rejected = 0, tail = 0, count = 0;
+    std::vector<double> out(5000);
+    for (int r = 0; r < 80; ++r) {
+      const int n = r % 2 == 0 ? 5000 : 1 + (r * 7) % 100;
+      g.fill_normal(out.data(), n);
+      for (int k = 0; k < n; ++k, ++count)
+        REQUIRE(out[static_cast<std::size_t>(k)] == reference(ref, rejected, tail));
+    }
+    CHECK(count > 200000);
+    CHECK(rejected > 500);  // about 1% of the words: wedges and tails were exercised
+    CHECK(tail > 5);
+    CHECK(g.next() == ref.next());  // the same words consumed
+  }
+}
+
 TEST_CASE("Rng and BatchRng: save_state / restore_state continue the same sequence", "[pf][random]") {
   Rng a(9, 2);
   (void)a.normal();  // leaves a kept normal variate: part of the state

@@ -1,5 +1,7 @@
 """Rng jumps and the particle filter's BatchRng: lane derivation, ranges, distributions."""
 
+import platform
+
 import numpy as np
 import pytest
 from scipy import stats
@@ -64,3 +66,27 @@ def test_batch_is_reproducible_and_rejects_bad_sizes():
     with pytest.raises(ValueError, match="n_quads"):
         g.bits(-2)
     assert g.uniforms(0).shape == (0,)
+
+
+def test_batch_avx2_refills_give_the_same_draws():
+    """use_avx2(True) moves the refills to AVX2 registers where the CPU has AVX2: the same words,
+    uniforms and normals as the default refills, from the same parent, whatever is drawn between."""
+    narrow, wide = BatchRng(Rng(21, 4)), BatchRng(Rng(21, 4))
+    assert not narrow.uses_avx2
+    wide.use_avx2(True)
+    try:
+        with open("/proc/cpuinfo") as f:
+            has_avx2 = any(line.startswith("flags") and " avx2" in line for line in f)
+    except OSError:
+        has_avx2 = False
+    assert wide.uses_avx2 == (has_avx2 and platform.machine() == "x86_64")
+    for n in (1, 63, 64, 65, 1000, 4097):
+        np.testing.assert_array_equal(narrow.normals(n), wide.normals(n))
+        np.testing.assert_array_equal(narrow.uniforms(4 * n), wide.uniforms(4 * n))
+        np.testing.assert_array_equal(narrow.bits(n), wide.bits(n))
+        assert narrow.uniform() == wide.uniform() and narrow() == wide()
+    assert narrow.save_state() == wide.save_state()  # the flag is not part of the state
+    wide.use_avx2(False)
+    assert not wide.uses_avx2
+    with pytest.raises(TypeError, match="on"):
+        wide.use_avx2(1)

@@ -13,6 +13,12 @@
 #include <emmintrin.h>
 #define NLOSLOC_RNG_SSE2 1
 #endif
+// GCC/Clang on x86-64: BatchRng can refill on 256-bit AVX2 registers in a function compiled for AVX2 (target
+// attribute), chosen at run time (BatchRng::use_avx2), whatever the build's flags.
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
+#include <immintrin.h>
+#define NLOSLOC_RNG_AVX2 1
+#endif
 
 namespace nlosloc {
 
@@ -134,6 +140,19 @@ class Rng {
 };
 
 namespace detail {
+/// True when the CPU running this process has AVX2 (GCC/Clang on x86-64; false elsewhere).
+inline bool cpu_has_avx2() {
+#ifdef NLOSLOC_RNG_AVX2
+  static const bool has = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return has;
+#else
+  return false;
+#endif
+}
+
 /// Ziggurat tables of the standard normal (Marsaglia and Tsang 2000, 256 layers of area V): x[0] = V / f(R),
 /// x[1] = R, x[i+1] = f^{-1}(V / x[i] + f(x[i])), x[256] = 0; f(x) = exp(-x^2 / 2) and fx[i] = f(x[i]).
 struct ZigguratNormal {
@@ -160,7 +179,8 @@ struct ZigguratNormal {
 /// Bulk generator for hot loops (the particle filter): kLanes xoshiro256++ generators run in lockstep
 /// (SSE2 when available, otherwise the same arithmetic in scalar code: identical outputs), lane l being the
 /// parent Rng jumped l + 1 times by 2^128, so the lanes never overlap the parent or each other. Its output
-/// is a different sequence from the parent's (the parent is not advanced). Copyable.
+/// is a different sequence from the parent's (the parent is not advanced). Copyable. use_avx2(true) makes
+/// the refills run on AVX2 registers where the CPU has AVX2: the same words, faster.
 class BatchRng {
  public:
   static constexpr int kLanes = 4;
@@ -175,8 +195,20 @@ class BatchRng {
     }
   }
 
+  /// Refills on 256-bit AVX2 registers from now on (on, and the CPU has AVX2) or on SSE2 / scalar code (the
+  /// default). Either way the words are the same: only the speed differs. Not part of save_state().
+  void use_avx2(bool on) { wide_ = on && detail::cpu_has_avx2(); }
+  /// Whether refills run on AVX2 registers.
+  bool uses_avx2() const { return wide_; }
+
   /// Writes 4 * n_quads 64-bit words: word 4 j + l is the j-th output of lane l.
   void fill_bits(std::uint64_t* out, int n_quads) {
+#ifdef NLOSLOC_RNG_AVX2
+    if (wide_) {
+      fill_bits_avx2(out, n_quads);
+      return;
+    }
+#endif
 #ifdef NLOSLOC_RNG_SSE2
     __m128i s[4][2];
     for (int w = 0; w < 4; ++w)
@@ -261,10 +293,54 @@ class BatchRng {
   /// method); about 1.01 words per variate.
   void fill_normal(double* out, int n) {
     const auto& z = detail::ZigguratNormal::get();
-    for (int k = 0; k < n; ++k) out[k] = normal(z);
+    // The rectangle test (normal()'s first) on the buffer with the position in a register; a word it rejects
+    // goes to normal(), which draws it again: the same words give the same variates as a loop of normal().
+    for (int k = 0; k < n;) {
+      if (pos_ == kBuffer) {
+        fill_bits(buf_, kBuffer / kLanes);
+        pos_ = 0;
+      }
+      int p = pos_;
+      const int end = kBuffer - p < n - k ? kBuffer : p + (n - k);
+      for (; p < end; ++p) {
+        const std::uint64_t b = buf_[p];
+        const int i = static_cast<int>(b & 0xff);
+        const double x = (2.0 * (static_cast<double>(b >> 12) * 0x1.0p-52) - 1.0) * z.x[i];
+        if (!(std::abs(x) < z.x[i + 1])) break;
+        out[k++] = x;
+      }
+      pos_ = p;
+      if (p < end) out[k++] = normal(z);
+    }
   }
 
  private:
+#ifdef NLOSLOC_RNG_AVX2
+  /// fill_bits with the four lanes in one 256-bit register (xoshiro256++ on each 64-bit lane, as above).
+  __attribute__((target("avx2"))) void fill_bits_avx2(std::uint64_t* out, int n_quads) {
+    __m256i s0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s_[0]));
+    __m256i s1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s_[1]));
+    __m256i s2 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s_[2]));
+    __m256i s3 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s_[3]));
+    for (int j = 0; j < n_quads; ++j) {
+      const __m256i a = _mm256_add_epi64(s0, s3);
+      const __m256i r =
+          _mm256_add_epi64(_mm256_or_si256(_mm256_slli_epi64(a, 23), _mm256_srli_epi64(a, 41)), s0);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + 4 * j), r);
+      const __m256i t = _mm256_slli_epi64(s1, 17);
+      s2 = _mm256_xor_si256(s2, s0);
+      s3 = _mm256_xor_si256(s3, s1);
+      s1 = _mm256_xor_si256(s1, s2);
+      s0 = _mm256_xor_si256(s0, s3);
+      s2 = _mm256_xor_si256(s2, t);
+      s3 = _mm256_or_si256(_mm256_slli_epi64(s3, 45), _mm256_srli_epi64(s3, 19));
+    }
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(s_[0]), s0);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(s_[1]), s1);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(s_[2]), s2);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(s_[3]), s3);
+  }
+#endif
   double normal(const detail::ZigguratNormal& z) {
     for (;;) {
       const std::uint64_t b = next();
@@ -304,6 +380,7 @@ class BatchRng {
   std::uint64_t s_[4][kLanes];
   std::uint64_t buf_[kBuffer] = {};
   int pos_ = kBuffer;
+  bool wide_ = false;  // refills on AVX2 (use_avx2)
 };
 
 }  // namespace nlosloc

@@ -171,13 +171,7 @@ struct P4 {
     return *this;
   }
 };
-inline bool cpu_has_avx2() {
-  static const bool has = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") != 0;
-  }();
-  return has;
-}
+inline bool cpu_has_avx2() { return nlosloc::detail::cpu_has_avx2(); }
 #define NLOSLOC_PF_INLINE __attribute__((always_inline)) inline
 #define NLOSLOC_PF_LAMBDA_INLINE __attribute__((always_inline))
 #else
@@ -1024,6 +1018,8 @@ class ParticleFilter {
   NLOSLOC_PF_INLINE void propagate_weight(int b0, int e0, int th, long k, double t, bool speed) {
     ThreadWork& w = work_[static_cast<std::size_t>(th)];
     BatchRng& rng = brng_[static_cast<std::size_t>(th)];
+    // Refills on AVX2 registers in the AVX2 pass, or in a build for AVX or later (the same words either way)
+    rng.use_avx2(detail::kIsP4<W> || detail::kPfLanes >= 4);
     init_acc(w.sacc.data(), 1);
     cbeg_[static_cast<std::size_t>(th)] = b0;
     cend_[static_cast<std::size_t>(th)] = e0;

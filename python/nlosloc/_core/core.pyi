@@ -113,6 +113,15 @@ class BatchRng:
         """
         n uniforms in (0, 1) with 52 random bits each, n a multiple of 4; shape (n,).
         """
+    def use_avx2(self, on: bool) -> None:
+        """
+        Refill on 256-bit AVX2 registers from now on (on, and the CPU has AVX2; x86-64 GCC/Clang builds) or on SSE2 / scalar code (the default). The words are the same either way; not part of save_state().
+        """
+    @property
+    def uses_avx2(self) -> bool:
+        """
+        Whether refills run on AVX2 registers.
+        """
 class SigmaWeights:
     """
     Weights of a 2n+1 sigma-point set.
