@@ -13,6 +13,7 @@
 
 #include "cpu_affinity.hpp"
 #include "h2_micro_model.hpp"
+#include "nlosloc/core/random.hpp"
 #include "nlosloc/rbpf/pf.hpp"
 #include "nlosloc/rbpf/rbpf.hpp"
 #include "nlosloc/rbpf/thread_pool.hpp"
@@ -330,6 +331,29 @@ void BM_SpinBarrier(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * kRounds);
 }
 BENCHMARK(BM_SpinBarrier)->Unit(benchmark::kMicrosecond)->UseRealTime();
+
+/// The PF's bulk draws: args: kind (0 uniforms, 1 normals), avx2 (BatchRng::use_avx2; 1 runs the
+/// default refills where the CPU has no AVX2). 384 variates a call, as one block of the PF on H2 (3 normals
+/// a particle) or half a block's uniforms. items = variates: ns a variate = 1e9 / items_per_second.
+void BM_BatchRng(benchmark::State& state) {
+  BatchRng g(Rng(3));
+  g.use_avx2(state.range(1) != 0);
+  std::vector<double> out(384);
+  for (auto _ : state) {
+    if (state.range(0) == 0)
+      g.fill_uniform(out.data(), 384);
+    else
+      g.fill_normal(out.data(), 384);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * 384);
+  state.SetLabel(g.uses_avx2() ? "avx2 refills" : "default refills");
+}
+BENCHMARK(BM_BatchRng)
+    ->ArgNames({"normal", "avx2"})
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->Unit(benchmark::kNanosecond);
 
 /// args: particles, threads, resampling (0 systematic, 1 merge-select)
 void BM_Pf(benchmark::State& state) {
