@@ -303,9 +303,8 @@ class BatchRng {
       int p = pos_;
       const int end = kBuffer - p < n - k ? kBuffer : p + (n - k);
       for (; p < end; ++p) {
-        const std::uint64_t b = buf_[p];
-        const int i = static_cast<int>(b & 0xff);
-        const double x = (2.0 * (static_cast<double>(b >> 12) * 0x1.0p-52) - 1.0) * z.x[i];
+        int i;
+        const double x = candidate(z, buf_[p], i);
         if (!(std::abs(x) < z.x[i + 1])) break;
         out[k++] = x;
       }
@@ -341,12 +340,16 @@ class BatchRng {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(s_[3]), s3);
   }
 #endif
+  /// The ziggurat's point for word b: layer i from its low 8 bits, x = u x[i] with u in [-1, 1) from the
+  /// other 52.
+  static double candidate(const detail::ZigguratNormal& z, std::uint64_t b, int& i) {
+    i = static_cast<int>(b & 0xff);
+    return (2.0 * (static_cast<double>(b >> 12) * 0x1.0p-52) - 1.0) * z.x[i];
+  }
   double normal(const detail::ZigguratNormal& z) {
     for (;;) {
-      const std::uint64_t b = next();
-      const int i = static_cast<int>(b & 0xff);                                 // layer from the low 8 bits
-      const double u = 2.0 * (static_cast<double>(b >> 12) * 0x1.0p-52) - 1.0;  // [-1, 1), other 52 bits
-      const double x = u * z.x[i];
+      int i;
+      const double x = candidate(z, next(), i);
       if (std::abs(x) < z.x[i + 1]) return x;  // inside the layer's rectangle
       if (i == 0) {                            // base layer beyond R: the tail (Marsaglia 1964)
         double xt, yt;
@@ -354,7 +357,7 @@ class BatchRng {
           xt = -std::log(uniform()) / detail::ZigguratNormal::kR;
           yt = -std::log(uniform());
         } while (2.0 * yt < xt * xt);
-        return u < 0.0 ? -(detail::ZigguratNormal::kR + xt) : detail::ZigguratNormal::kR + xt;
+        return x < 0.0 ? -(detail::ZigguratNormal::kR + xt) : detail::ZigguratNormal::kR + xt;  // x[0] > 0
       }
       if (z.fx[i + 1] + (z.fx[i] - z.fx[i + 1]) * uniform() < std::exp(-0.5 * x * x)) return x;  // wedge
     }
