@@ -221,6 +221,28 @@ std::uint32_t pf_bucket_key(const std::uint8_t* s, std::size_t ss, int B, const 
   return static_cast<std::uint32_t>(h >> 32);
 }
 
+#if defined(__GNUC__) || defined(__clang__)
+/// Four doubles and four 64-bit integers as GCC/Clang vectors (the vector bucket keys and exp4).
+typedef double V4d __attribute__((vector_size(32)));
+typedef std::int64_t V4i __attribute__((vector_size(32)));
+inline constexpr double kRoundMagic = 6755399441055744.0;  // 1.5 * 2^52: q + it rounds q to an integer
+/// f = floor(q) on each lane with |q| < 2^51: rounded through 1.5 * 2^52, less 1 where that went up (no
+/// libm call, no conversion). Results by reference: no AVX vector returned by value (-Wpsabi).
+NLOSLOC_PF_INLINE void floor4(const V4d& q, V4d& f) {
+  const V4d magic = {kRoundMagic, kRoundMagic, kRoundMagic, kRoundMagic}, one = {1.0, 1.0, 1.0, 1.0};
+  const V4d r = (q + magic) - magic;
+  f = r - (V4d)((V4i)(r > q) & (V4i)one);
+}
+/// i = the integers of integral lanes r (|r| < 2^51), from the bits of r + 1.5 * 2^52 (two's complement).
+NLOSLOC_PF_INLINE void int4(const V4d& r, V4i& i) {
+  const V4d magic = {kRoundMagic, kRoundMagic, kRoundMagic, kRoundMagic}, rm = r + magic;
+  V4i magic_bits;
+  std::memcpy(&i, &rm, sizeof i);
+  std::memcpy(&magic_bits, &magic, sizeof magic_bits);
+  i -= magic_bits;
+}
+#endif
+
 /// pf_bucket_key of particles 0..n-1 into out, four at a time on vectors (the same keys, bit for bit): the
 /// floor by rounding through 1.5 * 2^52 and its integer read from the bits, where every |x / w| of the four
 /// is below 2^51 (else, and for the tail, pf_bucket_key).
@@ -228,15 +250,9 @@ template <int N>
 NLOSLOC_PF_INLINE void pf_bucket_keys(const std::uint8_t* s, std::size_t ss, int B, const double* x,
                                       std::size_t xs, double inv_cell, int n, std::uint32_t* out) {
 #if defined(__GNUC__) || defined(__clang__)
-  typedef double V __attribute__((vector_size(32)));
   typedef std::uint64_t U __attribute__((vector_size(32)));
-  typedef std::int64_t I __attribute__((vector_size(32)));
-  constexpr double kMagic = 6755399441055744.0;  // 1.5 * 2^52: x + kMagic rounds x to an integer, |x| < 2^51
   constexpr double kLimit = 2251799813685248.0;  // 2^51
-  const V magic = {kMagic, kMagic, kMagic, kMagic}, one = {1.0, 1.0, 1.0, 1.0};
-  const V lim = {kLimit, kLimit, kLimit, kLimit}, inv = {inv_cell, inv_cell, inv_cell, inv_cell};
-  U magic_bits;
-  std::memcpy(&magic_bits, &magic, sizeof magic_bits);
+  const V4d lim = {kLimit, kLimit, kLimit, kLimit}, inv = {inv_cell, inv_cell, inv_cell, inv_cell};
   int j = 0;
   for (; j + 4 <= n; j += 4) {
     U sv = {0, 0, 0, 0};
@@ -246,18 +262,17 @@ NLOSLOC_PF_INLINE void pf_bucket_keys(const std::uint8_t* s, std::size_t ss, int
       sv = (sv << 8) + sv + v;  // sv * 257 + s_b
     }
     U h = (sv + 1) * kPfKeyMul[7];
-    I inside = {-1, -1, -1, -1};
+    V4i inside = {-1, -1, -1, -1};
     for (int e = 0; e < N; ++e) {
-      V q;
+      V4d q;
       std::memcpy(&q, x + static_cast<std::size_t>(e) * xs + static_cast<std::size_t>(j), sizeof q);
       q *= inv;
       inside &= (q < lim) & (q > -lim);  // false for NaN
-      V r = (q + magic) - magic;         // q rounded to an integer
-      r -= (V)((I)(r > q) & (I)one);     // floor
-      U f;
-      const V rm = r + magic;
-      std::memcpy(&f, &rm, sizeof f);
-      h ^= (f - magic_bits) * kPfKeyMul[e % 7];  // the integer floor(q), two's complement
+      V4d fq;
+      V4i f;
+      floor4(q, fq);
+      int4(fq, f);
+      h ^= (U)f * kPfKeyMul[e % 7];  // the integer floor(q), two's complement
     }
     h ^= h >> 31;
     h *= kPfKeyMul[0];
@@ -380,12 +395,11 @@ NLOSLOC_PF_INLINE P4 exp4(const P4& a) {
 #define NLOSLOC_PF_C4(x) (V{(x), (x), (x), (x)})
 #define NLOSLOC_PF_SEL(m, x, y) ((V)(((m) & (I)(x)) | (~(m) & (I)(y))))
   const V hi = NLOSLOC_PF_C4(709.784), lo = NLOSLOC_PF_C4(-709.784);
-  const V magic = NLOSLOC_PF_C4(6755399441055744.0);  // 1.5 * 2^52
-  V x = NLOSLOC_PF_SEL(hi < a.v, hi, a.v);            // pmin(x, hi)
-  x = NLOSLOC_PF_SEL(lo > x, lo, x);                  // pmax(., lo)
-  V fx = NLOSLOC_PF_C4(1.4426950408889634073599) * x + NLOSLOC_PF_C4(0.5);
-  const V r = (fx + magic) - magic;                   // fx rounded to an integer (|fx| < 1100)
-  fx = r - (V)((I)(r > fx) & (I)NLOSLOC_PF_C4(1.0));  // floor
+  V x = NLOSLOC_PF_SEL(hi < a.v, hi, a.v);  // pmin(x, hi)
+  x = NLOSLOC_PF_SEL(lo > x, lo, x);        // pmax(., lo)
+  // floor(x log2(e) + 1/2) (|.| < 1100)
+  V fx;
+  floor4(NLOSLOC_PF_C4(1.4426950408889634073599) * x + NLOSLOC_PF_C4(0.5), fx);
   x = x - fx * NLOSLOC_PF_C4(0.693145751953125);
   x = x - fx * NLOSLOC_PF_C4(1.42860682030941723212e-6);
   const V x2 = x * x;
@@ -399,13 +413,10 @@ NLOSLOC_PF_INLINE P4 exp4(const P4& a) {
   qx = qx * x2 + NLOSLOC_PF_C4(2.00000000000000000009e0);
   x = px / (qx - px);
   x = NLOSLOC_PF_C4(2.0) * x + NLOSLOC_PF_C4(1.0);
-  // x * 2^fx: fx's integer from the bits of fx + 1.5 * 2^52, biased and shifted into an exponent field
-  const V fm = fx + magic;
-  I e;
-  std::memcpy(&e, &fm, sizeof e);
-  I mb;
-  std::memcpy(&mb, &magic, sizeof mb);
-  e = (e - mb + 1023) << 52;
+  // x * 2^fx: fx's integer, biased and shifted into an exponent field
+  V4i fi;
+  int4(fx, fi);
+  const I e = ((I)fi + 1023) << 52;
   V scale;
   std::memcpy(&scale, &e, sizeof scale);
   const V y = x * scale;
