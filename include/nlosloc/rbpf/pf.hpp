@@ -146,6 +146,12 @@ namespace detail {
 using PfPacket = Eigen::internal::packet_traits<double>::type;
 inline constexpr int kPfLanes = static_cast<int>(sizeof(PfPacket) / sizeof(double));
 
+#if defined(__GNUC__) || defined(__clang__)
+/// Four doubles and four 64-bit integers as GCC/Clang vectors (P4, the vector bucket keys, exp4).
+typedef double V4d __attribute__((vector_size(32)));
+typedef std::int64_t V4i __attribute__((vector_size(32)));
+#endif
+
 // Run-time AVX2 in an x86-64 build without AVX (the portable default): where the CPU has AVX2, the PF's
 // pass (move, weights, moments, bucket keys) runs in a function compiled for AVX2 (GCC/Clang target
 // attribute), its weighting on 4-double packets (P4) with the same operations in the same order as on
@@ -158,8 +164,8 @@ inline constexpr int kPfLanes = static_cast<int>(sizeof(PfPacket) / sizeof(doubl
 /// Four doubles (a GCC/Clang vector: the compiler lowers its operations to the AVX2 function that inlines
 /// them). Masks are its bit patterns, as Eigen's.
 struct P4 {
-  typedef double V __attribute__((vector_size(32)));
-  typedef long long I __attribute__((vector_size(32)));
+  using V = V4d;
+  using I = V4i;
   V v;
   P4() = default;
   explicit P4(const V& x) : v(x) {}
@@ -222,9 +228,6 @@ std::uint32_t pf_bucket_key(const std::uint8_t* s, std::size_t ss, int B, const 
 }
 
 #if defined(__GNUC__) || defined(__clang__)
-/// Four doubles and four 64-bit integers as GCC/Clang vectors (the vector bucket keys and exp4).
-typedef double V4d __attribute__((vector_size(32)));
-typedef std::int64_t V4i __attribute__((vector_size(32)));
 inline constexpr double kRoundMagic = 6755399441055744.0;  // 1.5 * 2^52: q + it rounds q to an integer
 /// f = floor(q) on each lane with |q| < 2^51: rounded through 1.5 * 2^52, less 1 where that went up (no
 /// libm call, no conversion). Results by reference: no AVX vector returned by value (-Wpsabi).
@@ -414,9 +417,9 @@ NLOSLOC_PF_INLINE P4 exp4(const P4& a) {
   x = px / (qx - px);
   x = NLOSLOC_PF_C4(2.0) * x + NLOSLOC_PF_C4(1.0);
   // x * 2^fx: fx's integer, biased and shifted into an exponent field
-  V4i fi;
-  int4(fx, fi);
-  const I e = ((I)fi + 1023) << 52;
+  I e;
+  int4(fx, e);
+  e = (e + 1023) << 52;
   V scale;
   std::memcpy(&scale, &e, sizeof scale);
   const V y = x * scale;
